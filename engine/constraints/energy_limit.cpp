@@ -1,0 +1,71 @@
+#include "engine/constraints/energy_limit.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "engine/analysis/element_fields.hpp"
+
+namespace sinew {
+
+EnergyLimitEval evaluate_energy_limit(const Hex8Reference& ref, const Mat3& R, const Vec24& u,
+                                      double Umax, EnergyJacobian mode) {
+  EnergyLimitEval out;
+  const Vec24 Ku = ref.Ke * u;
+  const double Ue = u.dot(Ku);
+  out.ratio = Ue / Umax;
+  out.value = 1 - out.ratio;
+  const double scale = (mode == EnergyJacobian::Exact ? -2.0 : -1.0) / Umax;
+  for (int n = 0; n < 8; ++n) out.jac.segment<3>(3 * n) = scale * (R * Ku.segment<3>(3 * n));
+  return out;
+}
+
+namespace {
+
+EnergyJacobian jacobian_mode(const Model& model, int e) {
+  return model.bodies[model.element_body[e]].energy_limit.jacobian == "warped" ? EnergyJacobian::Warped
+                                                                               : EnergyJacobian::Exact;
+}
+
+// Ue / Umax per element (0 for elements without a limit).
+std::vector<double> energy_ratios(const Model& model, const VecX& x) {
+  std::vector<double> ratio(model.num_elements, 0.0);
+  tbb::parallel_for(0, model.num_elements, [&](int e) {
+    if (model.element_Umax[e] <= 0) return;
+    const Hex8Reference& ref = model.references[model.element_reference[e]];
+    ratio[e] = hex8_limit_energy(ref, element_corotated_displacement(model, x, e)) / model.element_Umax[e];
+  });
+  return ratio;
+}
+
+double worst_of(const Model& model, const std::vector<double>& ratio) {
+  double worst = -1;
+  for (int e = 0; e < model.num_elements; ++e)
+    if (model.element_Umax[e] > 0) worst = std::max(worst, ratio[e] - 1);
+  return worst;
+}
+
+}  // namespace
+
+double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
+                             const std::vector<uint64_t>& keep, RowTable& rows) {
+  const std::vector<double> ratio = energy_ratios(model, x);
+  for (int e = 0; e < model.num_elements; ++e) {
+    if (model.element_Umax[e] <= 0) continue;
+    const uint64_t key = row_key(RowKind::Energy, e);
+    if (ratio[e] <= 1 - margin && std::find(keep.begin(), keep.end(), key) == keep.end()) continue;
+    Mat3 R;
+    const Vec24 u = element_corotated_displacement(model, x, e, &R);
+    const EnergyLimitEval eval = evaluate_energy_limit(model.references[model.element_reference[e]], R, u,
+                                                       model.element_Umax[e], jacobian_mode(model, e));
+    rows.add_row(RowKind::Energy, eval.value, 0.0, 1e300, key);
+    for (int n = 0; n < 8; ++n) rows.add_entry(model.element_nodes[e][n], eval.jac.segment<3>(3 * n));
+  }
+  return worst_of(model, ratio);
+}
+
+double worst_energy_violation(const Model& model, const VecX& x) {
+  return worst_of(model, energy_ratios(model, x));
+}
+
+}  // namespace sinew

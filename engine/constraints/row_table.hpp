@@ -1,0 +1,46 @@
+#pragma once
+// Constraint rows: every kind of constraint (energy limit, strain limit, contact normal,
+// friction) becomes rows of this one table, so the LCP solver never branches on kinds.
+//
+// Row i:  C_i(x) >= 0 (unilateral) or = 0 (bounded both ways), linearised as
+//   C_i + h J_i (v - v_lin) >= 0, with J_i = dC_i/dx over a small stencil of nodes.
+// Its multiplier lambda_i is a force along J_i, bounded lo_i <= lambda_i <= hi_i; a
+// friction row's bounds are +-mu * lambda of its normal row, updated inside PGS.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+enum class RowKind { Energy, Strain, Contact, Friction, Count };
+constexpr int kRowKindCount = static_cast<int>(RowKind::Count);
+const char* row_kind_name(RowKind kind);
+
+struct RowTable {
+  std::vector<RowKind> kind;
+  std::vector<double> value;          // C_i at the linearisation point
+  std::vector<double> lo, hi;         // multiplier bounds
+  std::vector<int> normal_row;        // friction rows: their normal row; -1 otherwise
+  std::vector<double> mu;             // friction rows: Coulomb coefficient
+  std::vector<uint64_t> key;          // stable identity, for warm starts across steps
+  std::vector<int> begin{0};          // rows + 1: stencil range in nodes / jac
+  std::vector<int> nodes;             // global node per stencil entry
+  std::vector<Vec3> jac;              // dC_i / dx_node per stencil entry
+  std::vector<double> lambda;         // solution (force along J_i)
+
+  int size() const { return static_cast<int>(kind.size()); }
+  void clear();
+  // Appends a row with an empty stencil; fill it with add_entry(). Returns its index.
+  int add_row(RowKind k, double c, double lower, double upper, uint64_t identity);
+  void add_entry(int node, const Vec3& d);  // to the last row
+  int count(RowKind k) const;
+};
+
+// A key from a kind and up to two indices (element, sub-row; vertex, obstacle...).
+inline uint64_t row_key(RowKind k, uint32_t a, uint32_t b = 0) {
+  return (uint64_t(k) << 60) ^ (uint64_t(a) << 24) ^ uint64_t(b);
+}
+
+}  // namespace sinew

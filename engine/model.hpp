@@ -1,0 +1,64 @@
+#pragma once
+// The constant part of a simulation: everything that does not change during a run.
+// Built once from a SceneDesc by build_model(); read by every stage of World::step().
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "engine/assembly/system_pattern.hpp"
+#include "engine/fem/hex8.hpp"
+#include "engine/geometry/embedding.hpp"
+#include "engine/geometry/hex_lattice.hpp"
+#include "engine/scene/scene.hpp"
+
+namespace sinew {
+
+struct Body {
+  std::string name;
+  HexLattice lattice;          // rest lattice, world coordinates
+  int node_offset = 0;         // first global node
+  int element_offset = 0;      // first global element
+  TriMesh rest_surface;        // embedded surface at rest (renders and collides)
+  Embedding embedding;         // surface vertex -> cell + trilinear weights
+  MaterialDesc material;
+  double damping_mass = 0;     // Rayleigh alpha
+  double damping_stiffness = 0;  // Rayleigh beta
+  EnergyLimitDesc energy_limit;
+  int num_nodes() const { return static_cast<int>(lattice.nodes.size()); }
+  int num_elements() const { return static_cast<int>(lattice.cells.size()); }
+};
+
+struct Model {
+  std::string scene_name;
+  std::vector<Body> bodies;
+  std::vector<Hex8Reference> references;       // one per (cell size, material)
+  std::vector<ObstacleDesc> obstacles;
+  SolverDesc solver;
+  Vec3 gravity = Vec3::Zero();
+  double h = 1.0 / 60.0;
+
+  int num_nodes = 0;
+  VecX rest_x;                                 // 3 * num_nodes, rest positions
+  VecX node_mass;                              // num_nodes, lumped mass, kg
+  std::vector<int> node_body;                  // num_nodes
+  std::vector<int> free_index;                 // num_nodes: free node index, -1 if fixed
+  int num_free = 0;
+
+  int num_elements = 0;
+  std::vector<std::array<int, 8>> element_nodes;  // global node indices, paper order
+  std::vector<int> element_body;
+  std::vector<int> element_reference;          // index into references
+  std::vector<double> element_Umax;            // energy limit, 0 when the element has none
+  // Elements split into colours that share no node, so that each colour can be
+  // scattered in parallel without locks and in a fixed order (deterministic sums).
+  std::vector<std::vector<int>> element_colors;
+
+  SystemPattern pattern;                       // sparsity of the free-DOF system matrix
+};
+
+// Builds geometry, lattices, element references, masses and the system pattern.
+// Throws InputError (naming the scene file and JSON path) on empty lattices or bad meshes;
+// warnings (open mesh) go to `warn`.
+Model build_model(const SceneDesc& scene, const std::function<void(const std::string&)>& warn);
+
+}  // namespace sinew

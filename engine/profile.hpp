@@ -1,0 +1,45 @@
+#pragma once
+// The stages of a time step, named once, each timed into a StepProfile (Box2D-style).
+#include <array>
+#include <chrono>
+#include <map>
+#include <string>
+
+namespace sinew {
+
+enum class Stage { Assemble, Factorize, Solve, Constraints, Integrate, Surface, Count };
+constexpr int kStageCount = static_cast<int>(Stage::Count);
+
+inline const char* stage_name(Stage s) {
+  static const char* names[] = {"assemble", "factorize", "solve", "constraints", "integrate",
+                                "surface"};
+  return names[static_cast<int>(s)];
+}
+
+struct StepProfile {
+  std::array<double, kStageCount> ms{};               // wall time per stage
+  std::array<std::string, kStageCount> skipped{};     // reason when a stage did no work
+  std::map<std::string, int> rows;                    // active constraint rows by kind
+  std::map<std::string, int> iterations;              // by solver: pcg, pgs, sqp
+  std::map<std::string, double> violation;            // worst violation by kind
+  double step_ms = 0;
+  bool finite = true;
+  void clear() { *this = StepProfile{}; }
+};
+
+class StageTimer {
+ public:
+  StageTimer(StepProfile& profile, Stage stage)
+      : m_profile(profile), m_stage(stage), m_start(std::chrono::steady_clock::now()) {}
+  ~StageTimer() {
+    const auto end = std::chrono::steady_clock::now();
+    m_profile.ms[static_cast<int>(m_stage)] +=
+        std::chrono::duration<double, std::milli>(end - m_start).count();
+  }
+ private:
+  StepProfile& m_profile;
+  Stage m_stage;
+  std::chrono::steady_clock::time_point m_start;
+};
+
+}  // namespace sinew

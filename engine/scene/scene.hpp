@@ -1,0 +1,99 @@
+#pragma once
+// A scene as read from JSON (SI units). Schema: docs/scenes.md. Parsing validates
+// everything it can without building the simulation; errors name the file and JSON path.
+#include <string>
+#include <vector>
+
+#include "engine/core/types.hpp"
+#include "engine/geometry/shape.hpp"
+
+namespace sinew {
+
+// Nodes selected by a region are fixed (zero velocity) for the whole run.
+struct RegionDesc {
+  enum class Kind { Box, HalfSpace } kind = Kind::Box;
+  Vec3 a = Vec3::Zero();  // box: min corner; half-space: a point on its plane
+  Vec3 b = Vec3::Zero();  // box: max corner; half-space: outward normal (selects (x-a).b <= 0)
+  bool contains(const Vec3& p) const;
+};
+
+struct MaterialDesc {
+  std::string model = "corotational";  // only the linear corotational model for now
+  double E = 0;                        // Young's modulus, Pa, > 0
+  double nu = 0;                       // Poisson's ratio, [0, 0.5)
+  double rho = 0;                      // density, kg/m^3, > 0
+};
+
+// Energy limit (paper 000, eq. 14), per body with per-region overrides.
+struct EnergyLimitRegion {
+  RegionDesc region;  // elements whose rest centre is inside
+  double Umax = 0;
+};
+struct EnergyLimitDesc {
+  bool enabled = false;
+  double Umax = 0;  // J, > 0
+  std::vector<EnergyLimitRegion> regions;
+  std::string jacobian = "exact";  // "exact" (eqs. 15-18) or "warped" (f_e / Umax)
+};
+
+struct BodyDesc {
+  std::string json_path;   // e.g. "bodies[0]", for later error messages
+  std::string name;
+  // Geometry: exactly one of shape (union of primitives) or mesh (OBJ path, absolute or
+  // resolved against the scene file's folder).
+  Shape shape;
+  std::string mesh_path;
+  // Applied to the mesh or to the shape's primitives: x_world = translate + rotate * (scale * x).
+  double scale = 1;
+  Mat3 rotate = Mat3::Identity();
+  Vec3 translate = Vec3::Zero();
+  double cell_size = 0;            // m, > 0
+  double surface_resolution = 0;   // m; 0 = cell_size / 3 (procedural shapes only)
+  MaterialDesc material;
+  double damping_mass = 0;         // Rayleigh alpha, 1/s, >= 0
+  double damping_stiffness = 0;    // Rayleigh beta, s, >= 0
+  std::vector<RegionDesc> fixed;
+  Vec3 velocity = Vec3::Zero();    // initial, m/s
+  EnergyLimitDesc energy_limit;
+};
+
+struct ObstacleDesc {
+  std::string json_path;
+  std::string type = "plane";      // "plane" for now
+  Vec3 point = Vec3::Zero();
+  Vec3 normal = Vec3::UnitY();     // normalised by the parser
+  double friction = 0.5;           // Coulomb mu, >= 0
+};
+
+struct SolverDesc {
+  std::string linear = "cholmod";  // "cholmod" or "pcg"
+  double pcg_tolerance = 1e-8;     // relative residual
+  int pcg_max_iterations = 1000;
+  // Constraint solver (paper 000, section 5).
+  int pgs_max_iterations = 200;
+  double pgs_tolerance = 1e-6;     // stop when the largest multiplier change is below this (relative)
+  int sqp_max_iterations = 10;
+  double sqp_tolerance = 1e-3;     // worst Ue/Umax - 1 accepted
+  double activation_margin = 0.05; // rows for elements with Ue/Umax > 1 - margin (predicted)
+};
+
+struct SceneDesc {
+  std::string path;                // file it came from ("" if parsed from a string)
+  std::string name;
+  Vec3 gravity = Vec3(0, -9.81, 0);
+  double h = 1.0 / 60.0;           // time step, s, > 0
+  double fps = 60;                 // frames per second of output, > 0
+  int frames = 120;                // frames to run, > 0
+  std::vector<BodyDesc> bodies;    // at least one
+  std::vector<ObstacleDesc> obstacles;
+  SolverDesc solver;
+  int steps_per_frame() const;     // max(1, round(1 / (fps * h)))
+};
+
+// Reads and validates a scene file. Throws InputError "FILE: JSON.PATH: message".
+SceneDesc load_scene(const std::string& path);
+// Same, from text; `source_name` appears in messages, `base_dir` resolves mesh paths.
+SceneDesc parse_scene_text(const std::string& text, const std::string& source_name,
+                           const std::string& base_dir);
+
+}  // namespace sinew

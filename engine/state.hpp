@@ -1,0 +1,31 @@
+#pragma once
+// The mutable part of a simulation: what every step changes. Each field says its shape
+// and the stage that writes it.
+#include <vector>
+
+#include "engine/assembly/system_pattern.hpp"
+#include "engine/constraints/row_table.hpp"
+#include "engine/core/types.hpp"
+#include "engine/profile.hpp"
+
+namespace sinew {
+
+struct State {
+  double t = 0;                      // simulated time, s
+  long step_count = 0;
+  VecX x;                            // 3 * nodes, positions (integrate)
+  VecX v;                            // 3 * nodes, velocities (solve, constraints)
+  std::vector<Mat3> R;               // per element rotation (assemble)
+  VecX force;                        // 3 * nodes: elastic + gravity + external at x0 (assemble)
+  VecX external_force;               // 3 * nodes: applied loads, N (set by callers; kept)
+  SparseMatrix system;               // free-DOF system matrix A of eq. 19 (assemble)
+  VecX rhs;                          // 3 * free: b of eq. 19 (assemble)
+  VecX v_free;                       // 3 * free: unconstrained v* (solve)
+  RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
+  std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
+  MatX constraint_dirs;              // 3 * free x rows: J^T, then A^-1 J^T (constraints, scratch)
+  std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
+  StepProfile profile;               // of the last step
+};
+
+}  // namespace sinew

@@ -1,0 +1,65 @@
+#include <tbb/parallel_for.h>
+
+#include "engine/step/stages.hpp"
+
+namespace sinew {
+
+// Backward Euler with Rayleigh damping D = alpha M + beta K (paper 000, eq. 19):
+//   A = M - h dF/dv - h^2 dF/dx = (1 + h alpha) M + (h beta + h^2) K
+//   b = (M - h dF/dv) v0 + h F(x0, v0) = M v0 + h (f_elastic(x0) + M g + f_ext)
+// (the damping force in F cancels the h dF/dv v0 term). K is the warped stiffness
+// R Ke R^T with R frozen over the step.
+void assemble_system(const Model& model, State& state) {
+  const double h = model.h;
+  std::fill_n(state.system.valuePtr(), state.system.nonZeros(), 0.0);
+  for (int n = 0; n < model.num_nodes; ++n)
+    state.force.segment<3>(3 * n) =
+        model.node_mass[n] * model.gravity + state.external_force.segment<3>(3 * n);
+
+  double* values = state.system.valuePtr();
+  for (const std::vector<int>& color : model.element_colors) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
+      Mat24 K;
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const int e = color[i];
+        const auto& nodes = model.element_nodes[e];
+        const Hex8Reference& ref = model.references[model.element_reference[e]];
+        std::array<Vec3, 8> x, X;
+        for (int a = 0; a < 8; ++a) {
+          x[a] = state.x.segment<3>(3 * nodes[a]);
+          X[a] = model.rest_x.segment<3>(3 * nodes[a]);
+        }
+        const Mat3 R = compute_hex8_rotation(x, ref.cell_size);
+        state.R[e] = R;
+        const Vec24 f = hex8_elastic_force(ref, R, hex8_corotated_displacement(R, x, X));
+        for (int a = 0; a < 8; ++a) state.force.segment<3>(3 * nodes[a]) += f.segment<3>(3 * a);
+
+        const Body& body = model.bodies[model.element_body[e]];
+        const double k_scale = h * body.damping_stiffness + h * h;
+        hex8_warped_stiffness(ref, R, K);
+        const auto& scatter = model.pattern.element_scatter[e];
+        for (int ab = 0; ab < 64; ++ab) {
+          if (scatter[3 * ab] < 0) continue;
+          const int a = ab / 8, b = ab % 8;
+          for (int d = 0; d < 3; ++d) {
+            double* column = values + scatter[3 * ab + d];
+            for (int r = 0; r < 3; ++r) column[r] += k_scale * K(3 * a + r, 3 * b + d);
+          }
+        }
+      }
+    });
+  }
+
+  for (int n = 0; n < model.num_nodes; ++n) {
+    const int fi = model.free_index[n];
+    if (fi < 0) continue;
+    const Body& body = model.bodies[model.node_body[n]];
+    const double m = model.node_mass[n];
+    for (int d = 0; d < 3; ++d) {
+      values[model.pattern.diagonal[3 * fi + d]] += (1 + h * body.damping_mass) * m;
+      state.rhs[3 * fi + d] = m * state.v[3 * n + d] + h * state.force[3 * n + d];
+    }
+  }
+}
+
+}  // namespace sinew

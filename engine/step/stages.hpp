@@ -1,0 +1,28 @@
+#pragma once
+// The stages of World::step(), one file each (docs/ARCHITECTURE.md lists them in order).
+#include "engine/model.hpp"
+#include "engine/solve/linear_solver.hpp"
+#include "engine/state.hpp"
+
+namespace sinew {
+
+// 1. Element rotations, warped stiffness and forces at x0; the system A and right-hand
+//    side b of backward Euler (paper 000, eq. 19) over free DOFs.
+void assemble_system(const Model& model, State& state);
+
+// 2-3. Factorise A and solve A v* = b; v* scattered into state.v (fixed nodes: 0).
+//      Returns false if the factorisation failed.
+bool solve_velocity(const Model& model, LinearSolver& solver, State& state);
+
+// 4. Constraints (paper 000, section 5): rows at x* = x0 + h v*, the LCP of eq. 23 by
+//    projected Gauss-Seidel, and SQP re-linearisation at the corrected positions until
+//    the worst violation meets the tolerance. Updates state.v.
+void solve_constraints(const Model& model, LinearSolver& solver, State& state);
+
+// 5. x = x0 + h v.
+void integrate_positions(const Model& model, State& state);
+
+// 6. Embedded surfaces from the lattice.
+void update_surfaces(const Model& model, State& state);
+
+}  // namespace sinew

@@ -1,0 +1,99 @@
+#include "engine/world.hpp"
+
+#include <chrono>
+#include <cstring>
+
+#include "engine/step/stages.hpp"
+
+namespace sinew {
+
+World::World(Model model, const std::vector<Vec3>& initial_velocity)
+    : m_model(std::move(model)), m_solver(m_model.solver) {
+  State& s = m_state;
+  s.x = m_model.rest_x;
+  s.v = VecX::Zero(3 * m_model.num_nodes);
+  for (int n = 0; n < m_model.num_nodes; ++n) {
+    const int b = m_model.node_body[n];
+    if (m_model.free_index[n] >= 0 && b < static_cast<int>(initial_velocity.size()))
+      s.v.segment<3>(3 * n) = initial_velocity[b];
+  }
+  s.R.assign(m_model.num_elements, Mat3::Identity());
+  s.force = VecX::Zero(3 * m_model.num_nodes);
+  s.external_force = VecX::Zero(3 * m_model.num_nodes);
+  s.system = m_model.pattern.matrix;
+  s.rhs = VecX::Zero(3 * m_model.num_free);
+  s.v_free = VecX::Zero(3 * m_model.num_free);
+  s.surface.resize(m_model.bodies.size());
+  update_surfaces(m_model, s);
+}
+
+bool World::step() {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  State& s = m_state;
+  s.profile.clear();
+  const VecX x0 = s.x, v0 = s.v;
+
+  {
+    StageTimer timer(s.profile, Stage::Assemble);
+    assemble_system(m_model, s);
+  }
+  bool ok = solve_velocity(m_model, m_solver, s);
+  if (ok) {
+    StageTimer timer(s.profile, Stage::Constraints);
+    solve_constraints(m_model, m_solver, s);
+  }
+  if (ok) {
+    StageTimer timer(s.profile, Stage::Integrate);
+    integrate_positions(m_model, s);
+    ok = s.x.allFinite() && s.v.allFinite();
+  }
+  if (!ok) {
+    // Roll back so that the caller keeps a valid state to report or write.
+    s.x = x0;
+    s.v = v0;
+    s.profile.finite = false;
+  } else {
+    s.t += m_model.h;
+    ++s.step_count;
+  }
+  {
+    StageTimer timer(s.profile, Stage::Surface);
+    update_surfaces(m_model, s);
+  }
+  s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  return ok;
+}
+
+double World::kinetic_energy() const {
+  double ke = 0;
+  for (int n = 0; n < m_model.num_nodes; ++n)
+    ke += 0.5 * m_model.node_mass[n] * m_state.v.segment<3>(3 * n).squaredNorm();
+  return ke;
+}
+
+uint64_t World::state_hash() const {
+  uint64_t hash = 1469598103934665603ull;
+  auto mix = [&](const VecX& values) {
+    for (Eigen::Index i = 0; i < values.size(); ++i) {
+      uint64_t bits;
+      const double value = values[i];
+      std::memcpy(&bits, &value, sizeof bits);
+      for (int k = 0; k < 8; ++k) {
+        hash ^= (bits >> (8 * k)) & 0xff;
+        hash *= 1099511628211ull;
+      }
+    }
+  };
+  mix(m_state.x);
+  mix(m_state.v);
+  return hash;
+}
+
+std::vector<Vec3> initial_velocities(const SceneDesc& scene) {
+  std::vector<Vec3> v;
+  for (const BodyDesc& b : scene.bodies) v.push_back(b.velocity);
+  return v;
+}
+
+}  // namespace sinew

@@ -1,0 +1,36 @@
+#pragma once
+// A running simulation: the constant Model, the mutable State, and step().
+#include "engine/model.hpp"
+#include "engine/solve/linear_solver.hpp"
+#include "engine/state.hpp"
+
+namespace sinew {
+
+class World {
+ public:
+  explicit World(Model model, const std::vector<Vec3>& initial_velocity = {});
+
+  // Advances by model().h. Returns false, with the state rolled back to the start of
+  // the step and profile().finite == false, if a NaN/Inf appeared or the system matrix
+  // could not be factorised.
+  bool step();
+
+  const Model& model() const { return m_model; }
+  const State& state() const { return m_state; }
+  State& mutable_state() { return m_state; }
+  const StepProfile& profile() const { return m_state.profile; }
+
+  double kinetic_energy() const;
+  // FNV-1a over the bit patterns of x and v: equal hashes mean identical states.
+  uint64_t state_hash() const;
+
+ private:
+  Model m_model;
+  State m_state;
+  LinearSolver m_solver;
+};
+
+// Initial velocities per body from the scene (one per body).
+std::vector<Vec3> initial_velocities(const SceneDesc& scene);
+
+}  // namespace sinew

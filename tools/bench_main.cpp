@@ -1,0 +1,118 @@
+// sinew_bench: times steps of named scenes, per stage; medians over repeats, JSON out.
+// Warm-up steps are excluded. Speed lives here, never in unit tests.
+#include <tbb/global_control.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "engine/core/error.hpp"
+#include "engine/io/atomic_file.hpp"
+#include "engine/io/stats_summary.hpp"
+#include "engine/simulate_frame.hpp"
+
+using namespace sinew;
+
+namespace {
+
+struct BenchScene {
+  std::string name;
+  std::function<SceneDesc()> make;  // throws if unavailable (e.g. a missing shared mesh)
+};
+
+std::string source_dir() { return SINEW_SOURCE_DIR; }
+
+SceneDesc scene_file(const std::string& relative) { return load_scene(source_dir() + "/" + relative); }
+
+// The armadillo of paper 000, fig. 6: 2 m tall, ~365 cells, lying free under gravity.
+SceneDesc armadillo_scene() {
+  const std::string mesh = source_dir() + "/../shared/meshes/armadillo.obj";
+  if (!std::filesystem::exists(mesh)) throw InputError("armadillo mesh not found at " + mesh);
+  const std::string text = R"({"name": "armadillo365", "h": 0.0166667,
+    "bodies": [{"name": "armadillo", "mesh": ")" + mesh + R"(",
+      "transform": {"scale": 2.0},
+      "cell_size": 0.2,
+      "material": {"E": 5e5, "nu": 0.3, "rho": 500}, "damping": {"stiffness": 0.01},
+      "fixed": [{"half_space": {"point": [0, -1.0, 0], "normal": [0, 1, 0]}}]}]})";
+  return parse_scene_text(text, "armadillo365", source_dir());
+}
+
+// A 40 x 25 x 10 block of 10,000 cells fixed at one end.
+SceneDesc block10k_scene() {
+  const std::string text = R"({"name": "block10k", "h": 0.0166667,
+    "bodies": [{"name": "block", "shape": [{"type": "box", "half_extents": [1.0, 0.625, 0.25]}],
+      "cell_size": 0.05, "material": {"E": 1e6, "nu": 0.3, "rho": 1000},
+      "damping": {"stiffness": 0.01},
+      "fixed": [{"half_space": {"point": [-0.99, 0, 0], "normal": [1, 0, 0]}}]}]})";
+  return parse_scene_text(text, "block10k", source_dir());
+}
+
+std::vector<BenchScene> all_scenes() {
+  return {{"beam56", [] { return scene_file("assets/scenes/paper000_beam_150kPa.json"); }},
+          {"armadillo365", armadillo_scene},
+          {"block10k", block10k_scene}};
+}
+
+nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps) {
+  const SceneDesc scene = bench.make();
+  World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
+  for (int i = 0; i < warmup; ++i) world.step();
+  std::vector<FrameStats> samples;
+  for (int i = 0; i < steps; ++i) samples.push_back(simulate_frame(world, 1));
+  nlohmann::json stages = nlohmann::json::object();
+  std::printf("%-14s %6d elements %7d dofs\n", bench.name.c_str(), world.model().num_elements,
+              3 * world.model().num_free);
+  for (const StageSummary& s : summarize_stages(samples)) {
+    stages[s.name] = {{"median_ms", s.median}, {"p95_ms", s.p95}, {"max_ms", s.max}};
+    std::printf("  %-12s median %9.4f ms   p95 %9.4f ms   max %9.4f ms\n", s.name.c_str(), s.median,
+                s.p95, s.max);
+  }
+  return {{"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
+          {"steps", steps}, {"warmup", warmup}, {"finite", world.state().x.allFinite()},
+          {"stages", stages}};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string out = "bench_results.json", only;
+  int steps = 100, warmup = 10, threads = 0;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto next = [&]() -> std::string {
+      if (i + 1 >= argc) { std::fprintf(stderr, "%s expects a value\n", arg.c_str()); std::exit(2); }
+      return argv[++i];
+    };
+    if (arg == "--out") out = next();
+    else if (arg == "--steps") steps = std::stoi(next());
+    else if (arg == "--warmup") warmup = std::stoi(next());
+    else if (arg == "--threads") threads = std::stoi(next());
+    else if (arg == "--scene") only = next();
+    else {
+      std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--out FILE]\n"
+                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k\n");
+      return arg == "--help" ? 0 : 2;
+    }
+  }
+  std::unique_ptr<tbb::global_control> limit;
+  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
+
+  nlohmann::json results = {{"threads", threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())},
+                            {"scenes", nlohmann::json::object()}};
+  for (const BenchScene& bench : all_scenes()) {
+    if (!only.empty() && bench.name != only) continue;
+    try {
+      results["scenes"][bench.name] = bench_scene(bench, warmup, steps);
+    } catch (const std::exception& e) {
+      std::printf("%-14s skipped: %s\n", bench.name.c_str(), e.what());
+      results["scenes"][bench.name] = {{"skipped", e.what()}};
+    }
+  }
+  write_file_atomically(out, [&](std::ostream& s) { s << results.dump(2) << "\n"; });
+  std::printf("wrote %s\n", out.c_str());
+  return 0;
+}

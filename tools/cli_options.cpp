@@ -1,0 +1,86 @@
+#include "tools/cli_options.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace sinew::cli {
+
+Options::Options(std::string usage, std::string summary, std::vector<OptionSpec> specs, int positional)
+    : m_usage(std::move(usage)), m_summary(std::move(summary)), m_specs(std::move(specs)),
+      m_positional_count(positional) {}
+
+std::string Options::help() const {
+  std::ostringstream out;
+  out << "usage: " << m_usage << "\n\n" << m_summary << "\n\noptions:\n";
+  for (const OptionSpec& s : m_specs) {
+    std::string left = "  " + s.name + (s.value.empty() ? "" : " " + s.value);
+    if (left.size() < 26) left.resize(26, ' ');
+    else left += "\n" + std::string(26, ' ');
+    out << left << s.help << "\n";
+  }
+  out << "  -h, --help                show this help\n";
+  return out.str();
+}
+
+bool Options::parse(int argc, char** argv) {
+  for (int i = 0; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "-h" || arg == "--help") {
+      std::fputs(help().c_str(), stdout);
+      return false;
+    }
+    if (arg.rfind("--", 0) != 0) {
+      m_positional.push_back(arg);
+      continue;
+    }
+    std::string name = arg, value;
+    const auto eq = arg.find('=');
+    if (eq != std::string::npos) name = arg.substr(0, eq), value = arg.substr(eq + 1);
+    const OptionSpec* spec = nullptr;
+    for (const OptionSpec& s : m_specs)
+      if (s.name == name) spec = &s;
+    if (!spec) throw UsageError("unknown option '" + name + "' (see --help)");
+    if (!spec->value.empty() && eq == std::string::npos) {
+      if (i + 1 >= argc) throw UsageError("option " + name + " expects a value " + spec->value);
+      value = argv[++i];
+    }
+    if (spec->value.empty() && eq != std::string::npos)
+      throw UsageError("option " + name + " takes no value");
+    m_values[name] = value;
+  }
+  if (static_cast<int>(m_positional.size()) != m_positional_count)
+    throw UsageError("expected " + std::to_string(m_positional_count) + " argument(s), got " +
+                     std::to_string(m_positional.size()) + "\nusage: " + m_usage);
+  return true;
+}
+
+std::string Options::get(const std::string& name, const std::string& fallback) const {
+  const auto it = m_values.find(name);
+  return it == m_values.end() ? fallback : it->second;
+}
+
+int Options::get_int(const std::string& name, int fallback, int min_value) const {
+  if (!has(name)) return fallback;
+  const std::string text = get(name);
+  int value = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || ptr != text.data() + text.size() || value < min_value)
+    throw UsageError("option " + name + " expects an integer >= " + std::to_string(min_value) +
+                     ", got '" + text + "'");
+  return value;
+}
+
+double Options::get_double(const std::string& name, double fallback, double min_exclusive) const {
+  if (!has(name)) return fallback;
+  const std::string text = get(name);
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size() || !std::isfinite(value) || value <= min_exclusive)
+    throw UsageError("option " + name + " expects a number > " + std::to_string(min_exclusive) +
+                     ", got '" + text + "'");
+  return value;
+}
+
+}  // namespace sinew::cli

@@ -1,0 +1,43 @@
+#pragma once
+// A small command-line option parser: declared options with help text, so that --help
+// and the parser can never disagree.
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace sinew::cli {
+
+struct OptionSpec {
+  std::string name;       // "--frames"
+  std::string value;      // "N" ("" for a flag)
+  std::string help;
+};
+
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Options {
+ public:
+  Options(std::string usage, std::string summary, std::vector<OptionSpec> specs, int positional);
+  // Throws UsageError; returns false if --help was given (help already printed).
+  bool parse(int argc, char** argv);
+  std::string help() const;
+
+  bool has(const std::string& name) const { return m_values.count(name) > 0; }
+  std::string get(const std::string& name, const std::string& fallback = "") const;
+  int get_int(const std::string& name, int fallback, int min_value) const;
+  double get_double(const std::string& name, double fallback, double min_exclusive) const;
+  const std::vector<std::string>& positional() const { return m_positional; }
+
+ private:
+  std::string m_usage, m_summary;
+  std::vector<OptionSpec> m_specs;
+  int m_positional_count;
+  std::map<std::string, std::string> m_values;
+  std::vector<std::string> m_positional;
+};
+
+}  // namespace sinew::cli
