@@ -24,6 +24,8 @@ struct State {
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
   MatX constraint_dirs;              // 3 * free x rows: J^T, then A^-1 J^T (constraints, scratch)
+  SparseMatrix sqp_system;           // A plus the constraint Hessian of SQP (constraints)
+  std::vector<double> element_scratch;  // per element, scratch of assemble and constraints
   std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
   StepProfile profile;               // of the last step
 };

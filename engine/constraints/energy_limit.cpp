@@ -58,7 +58,11 @@ double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
     const Vec24 u = element_corotated_displacement(model, x, e, &R);
     const EnergyLimitEval eval = evaluate_energy_limit(model.references[model.element_reference[e]], R, u,
                                                        model.element_Umax[e], jacobian_mode(model, e));
-    rows.add_row(RowKind::Energy, eval.value, 0.0, 1e300, key);
+    const int row = rows.add_row(RowKind::Energy, eval.value, 0.0, 1e300, key);
+    // C = 1 - u^T Ke u / Umax: -d2C/dx2 = (2 / Umax) R Ke R^T (exact), half that for the
+    // warped Jacobian, whose constraint is 1 - 1/2 u^T Ke u / Umax up to a constant.
+    rows.element[row] = e;
+    rows.curvature[row] = (jacobian_mode(model, e) == EnergyJacobian::Exact ? 2.0 : 1.0) / model.element_Umax[e];
     for (int n = 0; n < 8; ++n) rows.add_entry(model.element_nodes[e][n], eval.jac.segment<3>(3 * n));
   }
   return worst_of(model, ratio);

@@ -11,7 +11,7 @@ const char* row_kind_name(RowKind kind) {
 
 void RowTable::clear() {
   kind.clear(), value.clear(), lo.clear(), hi.clear(), normal_row.clear(), mu.clear();
-  key.clear(), nodes.clear(), jac.clear(), lambda.clear();
+  key.clear(), element.clear(), curvature.clear(), nodes.clear(), jac.clear(), lambda.clear();
   begin.assign(1, 0);
 }
 
@@ -23,6 +23,8 @@ int RowTable::add_row(RowKind k, double c, double lower, double upper, uint64_t 
   normal_row.push_back(-1);
   mu.push_back(0);
   key.push_back(identity);
+  element.push_back(-1);
+  curvature.push_back(0);
   lambda.push_back(0);
   begin.push_back(static_cast<int>(nodes.size()));
   return size() - 1;

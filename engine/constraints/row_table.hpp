@@ -25,6 +25,10 @@ struct RowTable {
   std::vector<int> normal_row;        // friction rows: their normal row; -1 otherwise
   std::vector<double> mu;             // friction rows: Coulomb coefficient
   std::vector<uint64_t> key;          // stable identity, for warm starts across steps
+  // Curvature for SQP: -d2C_i/dx2 ~= curvature_i * R_e Ke R_e^T of element `element_i`
+  // (energy limits); rows with element -1 are treated as linear (Gauss-Newton).
+  std::vector<int> element;
+  std::vector<double> curvature;
   std::vector<int> begin{0};          // rows + 1: stencil range in nodes / jac
   std::vector<int> nodes;             // global node per stencil entry
   std::vector<Vec3> jac;              // dC_i / dx_node per stencil entry

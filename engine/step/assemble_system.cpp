@@ -1,5 +1,6 @@
 #include <tbb/parallel_for.h>
 
+#include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
@@ -11,15 +12,16 @@ namespace sinew {
 // R Ke R^T with R frozen over the step.
 void assemble_system(const Model& model, State& state) {
   const double h = model.h;
-  std::fill_n(state.system.valuePtr(), state.system.nonZeros(), 0.0);
   for (int n = 0; n < model.num_nodes; ++n)
     state.force.segment<3>(3 * n) =
         model.node_mass[n] * model.gravity + state.external_force.segment<3>(3 * n);
 
-  double* values = state.system.valuePtr();
+  // Rotations and elastic forces; a colour's elements share no node, so the force
+  // scatter needs no lock and sums in a fixed order.
+  std::vector<double>& k_scale = state.element_scratch;
+  k_scale.resize(model.num_elements);
   for (const std::vector<int>& color : model.element_colors) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
-      Mat24 K;
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const int e = color[i];
         const auto& nodes = model.element_nodes[e];
@@ -33,23 +35,14 @@ void assemble_system(const Model& model, State& state) {
         state.R[e] = R;
         const Vec24 f = hex8_elastic_force(ref, R, hex8_corotated_displacement(R, x, X));
         for (int a = 0; a < 8; ++a) state.force.segment<3>(3 * nodes[a]) += f.segment<3>(3 * a);
-
-        const Body& body = model.bodies[model.element_body[e]];
-        const double k_scale = h * body.damping_stiffness + h * h;
-        hex8_warped_stiffness(ref, R, K);
-        const auto& scatter = model.pattern.element_scatter[e];
-        for (int ab = 0; ab < 64; ++ab) {
-          if (scatter[3 * ab] < 0) continue;
-          const int a = ab / 8, b = ab % 8;
-          for (int d = 0; d < 3; ++d) {
-            double* column = values + scatter[3 * ab + d];
-            for (int r = 0; r < 3; ++r) column[r] += k_scale * K(3 * a + r, 3 * b + d);
-          }
-        }
+        k_scale[e] = h * model.bodies[model.element_body[e]].damping_stiffness + h * h;
       }
     });
   }
 
+  double* values = state.system.valuePtr();
+  std::fill_n(values, state.system.nonZeros(), 0.0);
+  scatter_warped_stiffness(model, state.R, k_scale, values);
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];
     if (fi < 0) continue;

@@ -1,5 +1,6 @@
 #include <algorithm>
 
+#include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/constraints/energy_limit.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
 #include "engine/step/stages.hpp"
@@ -7,8 +8,8 @@
 namespace sinew {
 namespace {
 
-// Builds every kind's rows at positions x; returns the worst violation by kind
-// (energy: Ue/Umax - 1). A new kind of constraint adds a line here, not a solver branch.
+// Builds every kind's rows at positions x; returns the worst violation (energy:
+// Ue/Umax - 1). A new kind of constraint adds a line here, not a branch in the solver.
 double build_rows(const Model& model, const VecX& x, const std::vector<uint64_t>& keep, RowTable& rows) {
   rows.clear();
   return add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
@@ -19,7 +20,21 @@ double warm_lambda(const std::vector<std::pair<uint64_t, double>>& warm, uint64_
   return (it != warm.end() && it->first == key) ? it->second : 0.0;
 }
 
-// W = J A^-1 J^T from the stencils of J and the columns Y = A^-1 J^T.
+VecX gather_free(const Model& model, const VecX& full) {
+  VecX out(3 * model.num_free);
+  for (int n = 0; n < model.num_nodes; ++n)
+    if (model.free_index[n] >= 0) out.segment<3>(3 * model.free_index[n]) = full.segment<3>(3 * n);
+  return out;
+}
+
+void scatter_free(const Model& model, const VecX& free, VecX& full) {
+  for (int n = 0; n < model.num_nodes; ++n) {
+    const int f = model.free_index[n];
+    full.segment<3>(3 * n) = f >= 0 ? Vec3(free.segment<3>(3 * f)) : Vec3::Zero();
+  }
+}
+
+// W = J Y from the stencils of J and the columns Y = H^-1 J^T.
 MatX delassus(const Model& model, const RowTable& rows, const MatX& Y) {
   const int m = rows.size();
   MatX W = MatX::Zero(m, m);
@@ -31,8 +46,32 @@ MatX delassus(const Model& model, const RowTable& rows, const MatX& Y) {
   return 0.5 * (W + W.transpose());
 }
 
+// The SQP Hessian H = A + h sum_i lambda_i curvature_i R_e Ke R_e^T (the constraint term
+// of the Lagrangian; lambda is a force impulse, so one h). Returns false when it is A.
+bool build_sqp_system(const Model& model, State& s) {
+  std::vector<double>& coeff = s.element_scratch;
+  coeff.assign(model.num_elements, 0.0);
+  bool any = false;
+  for (int i = 0; i < s.rows.size(); ++i)
+    if (s.rows.element[i] >= 0 && s.rows.lambda[i] > 0) {
+      coeff[s.rows.element[i]] += model.h * s.rows.lambda[i] * s.rows.curvature[i];
+      any = true;
+    }
+  if (!any) return false;
+  s.sqp_system = s.system;
+  scatter_warped_stiffness(model, s.R, coeff, s.sqp_system.valuePtr());
+  return true;
+}
+
 }  // namespace
 
+// SQP on   min_v 1/2 v^T A v - b^T v   s.t.  C(x0 + h v) >= 0   (paper 000, section 5):
+// each iteration linearises the rows at x_k = x0 + h v_k, solves the QP
+//   H dv = -(A v_k - b) + J^T lambda,   C_k + h J dv >= 0,   0 <= lambda
+// through the LCP  W lambda + c >= 0 (eq. 23) with W = J H^-1 J^T by PGS, and sets
+// v_k+1 = v_k + dv. On the first iteration H = A (the step's factorisation) and the QP is
+// exactly the paper's LCP; later ones add the constraints' curvature to H, without which
+// the iteration cycles once the limits carry large forces.
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
   const int stage = static_cast<int>(Stage::Constraints);
@@ -45,10 +84,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const SolverDesc& cfg = model.solver;
   const double h = model.h;
   const VecX x0 = s.x;
-  VecX v_star_free(3 * model.num_free);
-  for (int n = 0; n < model.num_nodes; ++n)
-    if (model.free_index[n] >= 0) v_star_free.segment<3>(3 * model.free_index[n]) = s.v.segment<3>(3 * n);
-  VecX v = s.v;
+  VecX v_free = gather_free(model, s.v);  // v_k; starts at v*
+  bool factor_is_A = true;
 
   std::vector<uint64_t> keep;
   for (const auto& [key, lambda] : s.warm_start)
@@ -56,46 +93,50 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   int sqp = 0, pgs = 0;
   double worst = 0;
   for (int k = 0;; ++k) {
-    worst = build_rows(model, x0 + h * v, keep, s.rows);
+    worst = build_rows(model, x0 + h * s.v, keep, s.rows);
     const int m = s.rows.size();
     if (m == 0 || worst <= cfg.sqp_tolerance || k == cfg.sqp_max_iterations) break;
     ++sqp;
+    for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
-    // Y = A^-1 J^T over free DOFs (rows of J for fixed nodes drop out: their v is 0).
-    MatX& Y = s.constraint_dirs;
-    MatX Jt = MatX::Zero(3 * model.num_free, m);
-    VecX c(m);
-    for (int i = 0; i < m; ++i) {
-      double jv = 0;
-      for (int e = s.rows.begin[i]; e < s.rows.begin[i + 1]; ++e) {
-        const int node = s.rows.nodes[e], f = model.free_index[node];
-        if (f < 0) continue;
-        Jt.block<3, 1>(3 * f, i) = s.rows.jac[e];
-        jv += s.rows.jac[e].dot(v_star_free.segment<3>(3 * f) - v.segment<3>(3 * node));
-      }
-      // Linearised at the current iterate: C_k + h J (v - v_k) >= 0, v = v* + Y lambda.
-      c[i] = s.rows.value[i] / h + jv;
-      s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
+    // Factorise H (or keep A's factorisation) and take the Newton step without constraints.
+    VecX v_base = v_free;
+    const bool curved = build_sqp_system(model, s);
+    if (curved || !factor_is_A) {
+      if (!solver.factorize(curved ? s.sqp_system : s.system)) break;
+      factor_is_A = !curved;
     }
+    if (k > 0) {
+      VecX step;
+      solver.solve(s.system * v_free - s.rhs, step);
+      v_base -= step;
+    }
+
+    MatX Jt = MatX::Zero(3 * model.num_free, m);
+    for (int i = 0; i < m; ++i)
+      for (int e = s.rows.begin[i]; e < s.rows.begin[i + 1]; ++e) {
+        const int f = model.free_index[s.rows.nodes[e]];
+        if (f >= 0) Jt.block<3, 1>(3 * f, i) = s.rows.jac[e];
+      }
+    MatX& Y = s.constraint_dirs;
     solver.solve_many(Jt, Y);
     const MatX W = delassus(model, s.rows, Y);
+    // C_k + h J (v - v_k) >= 0 with v = v_base + Y lambda.
+    const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + Jt.transpose() * (v_base - v_free);
     pgs += solve_pgs(W, c, s.rows, cfg.pgs_max_iterations, cfg.pgs_tolerance).iterations;
+    v_free = v_base + Y * Eigen::Map<const VecX>(s.rows.lambda.data(), m);
+    scatter_free(model, v_free, s.v);
 
-    const VecX v_free = v_star_free + Y * Eigen::Map<const VecX>(s.rows.lambda.data(), m);
-    for (int n = 0; n < model.num_nodes; ++n) {
-      const int f = model.free_index[n];
-      if (f >= 0) v.segment<3>(3 * n) = v_free.segment<3>(3 * f);
-    }
+    // Rows stay for the rest of the step once active, so the active set only grows.
     s.warm_start.clear();
-    keep.clear();
     for (int i = 0; i < m; ++i) {
       s.warm_start.emplace_back(s.rows.key[i], s.rows.lambda[i]);
-      if (s.rows.lambda[i] > 0) keep.push_back(s.rows.key[i]);
+      keep.push_back(s.rows.key[i]);
     }
     std::sort(s.warm_start.begin(), s.warm_start.end());
     std::sort(keep.begin(), keep.end());
+    keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
   }
-  s.v = v;
   if (sqp == 0) {
     profile.skipped[stage] = s.rows.size() ? "no row violated" : "no near-active constraint";
     s.warm_start.clear();

@@ -133,6 +133,35 @@ TEST_CASE("embedding: points outside the lattice go to the nearest cell and extr
     CHECK((out[i] - (A * points[i] + b)).norm() < 1e-9 * (1 + points[i].norm()));
 }
 
+TEST_CASE("embedding: the fallback picks the nearest cell box") {
+  // Cells of edge 10 chosen from a 3 x 2 x 2 block; distances are whole numbers, so the
+  // comparisons below are exact.
+  const HexLattice block = sinew::make_box_lattice(Vec3::Zero(), 10, 3, 2, 2);
+  auto subset = [&](const std::vector<std::array<int, 3>>& keep) {
+    HexLattice lat = block;
+    lat.cells.clear();
+    lat.cell_coords.clear();
+    for (const auto& g : keep)
+      for (std::size_t c = 0; c < block.cells.size(); ++c)
+        if (block.cell_coords[c] == g) lat.cells.push_back(block.cells[c]), lat.cell_coords.push_back(g);
+    REQUIRE(lat.cells.size() == keep.size());
+    return lat;
+  };
+  SUBCASE("equal box distance: nearer centre wins") {
+    // p = (5, 7, 6) is in the missing cell (0, 0, 0). Box distance to cell (1, 0, 0) is 5,
+    // to cell (0, 1, 1) sqrt(3^2 + 4^2) = 5 too; centres are sqrt(105) and sqrt(145) away.
+    const HexLattice lat = subset({{0, 1, 1}, {1, 0, 0}});
+    const Embedding emb = sinew::embed_points(lat, {Vec3(5, 7, 6)});
+    CHECK(emb.cell[0] == 1);
+  }
+  SUBCASE("nearest cell outside the 3x3x3 neighbourhood") {
+    // p = (9.5, 0.5, 0.5): cell (2, 0, 0) is 10.5 away, the neighbour (1, 1, 1) 13.4.
+    const HexLattice lat = subset({{1, 1, 1}, {2, 0, 0}});
+    const Embedding emb = sinew::embed_points(lat, {Vec3(9.5, 0.5, 0.5)});
+    CHECK(emb.cell[0] == 1);
+  }
+}
+
 TEST_CASE("embedding: results do not depend on the thread count") {
   const HexLattice lat = capsule_lattice();
   const Sample s = sample_cells(lat, 200000, 13);

@@ -83,6 +83,11 @@ TEST_CASE("surface_mesher: sphere is closed, outward and on the surface") {
     CHECK(sinew::count_open_edges(m) == 0);
     CHECK(consistently_oriented(m));
     CHECK(uses_every_vertex(m));
+    // Grid values that are exactly 0 are nudged: no triangle collapses to zero area.
+    double min_area = 1e300;
+    for (const auto& t : m.triangles)
+      min_area = std::min(min_area, (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm());
+    CHECK(min_area > 0);
     // Vertices: R^2 - 3 res^2 / 4 <= |v|^2 <= R^2 (slack for the 1e-12 res zero nudge).
     double rmin = 1e300, rmax = 0;
     for (const Vec3& v : m.vertices) rmin = std::min(rmin, v.norm()), rmax = std::max(rmax, v.norm());

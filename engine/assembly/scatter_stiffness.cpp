@@ -1,0 +1,30 @@
+#include "engine/assembly/scatter_stiffness.hpp"
+
+#include <tbb/parallel_for.h>
+
+namespace sinew {
+
+void scatter_warped_stiffness(const Model& model, const std::vector<Mat3>& R,
+                              const std::vector<double>& coeff, double* values) {
+  for (const std::vector<int>& color : model.element_colors) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
+      Mat24 K;
+      for (size_t i = range.begin(); i != range.end(); ++i) {
+        const int e = color[i];
+        if (coeff[e] == 0) continue;
+        hex8_warped_stiffness(model.references[model.element_reference[e]], R[e], K);
+        const auto& scatter = model.pattern.element_scatter[e];
+        for (int ab = 0; ab < 64; ++ab) {
+          if (scatter[3 * ab] < 0) continue;
+          const int a = ab / 8, b = ab % 8;
+          for (int d = 0; d < 3; ++d) {
+            double* column = values + scatter[3 * ab + d];
+            for (int r = 0; r < 3; ++r) column[r] += coeff[e] * K(3 * a + r, 3 * b + d);
+          }
+        }
+      }
+    });
+  }
+}
+
+}  // namespace sinew

@@ -1,0 +1,11 @@
+#pragma once
+// Adds sum_e coeff[e] * R_e Ke R_e^T into the values of a matrix with the system pattern.
+#include "engine/model.hpp"
+
+namespace sinew {
+
+// Elements with coeff[e] == 0 are skipped. Parallel by colour, deterministic.
+void scatter_warped_stiffness(const Model& model, const std::vector<Mat3>& R,
+                              const std::vector<double>& coeff, double* values);
+
+}  // namespace sinew
