@@ -112,9 +112,11 @@ int run_command(int argc, char** argv) {
   const bool quiet = opts.has("--quiet");
   auto warn = [](const std::string& text) { std::fprintf(stderr, "warning: %s\n", text.c_str()); };
 
-  SceneDesc scene = load_scene(opts.positional()[0]);
-  const int frames = opts.get_int("--frames", scene.frames, 1);
+  // Options first, so that a typo is reported before a long scene load.
+  const int frames_option = opts.get_int("--frames", 0, 1);
   const int threads = opts.get_int("--threads", 0, 1);
+  SceneDesc scene = load_scene(opts.positional()[0]);
+  const int frames = frames_option > 0 ? frames_option : scene.frames;
   std::unique_ptr<tbb::global_control> thread_limit;
   if (threads > 0)
     thread_limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
