@@ -8,11 +8,20 @@
 namespace sinew {
 namespace {
 
-// Builds every kind's rows at positions x; returns the worst violation (energy:
-// Ue/Umax - 1). A new kind of constraint adds a line here, not a branch in the solver.
-double build_rows(const Model& model, const VecX& x, const std::vector<uint64_t>& keep, RowTable& rows) {
+// Builds every kind's rows at the iterate (positions x = x0 + h v, velocities v);
+// returns the worst violation relative to each kind's tolerance (<= 1 means converged).
+// A new kind of constraint adds a line here, not a branch in the solver.
+double build_rows(const Model& model, const VecX& x, const VecX& v, const std::vector<uint64_t>& keep,
+                  RowTable& rows, StepProfile& profile) {
+  (void)v;
   rows.clear();
-  return add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
+  const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
+  profile.violation["energy"] = std::max(0.0, energy);
+  return energy / model.solver.sqp_tolerance;
+}
+
+bool has_constraints(const Model& model) {
+  return std::any_of(model.element_Umax.begin(), model.element_Umax.end(), [](double u) { return u > 0; });
 }
 
 double warm_lambda(const std::vector<std::pair<uint64_t, double>>& warm, uint64_t key) {
@@ -75,9 +84,7 @@ bool build_sqp_system(const Model& model, State& s) {
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
   const int stage = static_cast<int>(Stage::Constraints);
-  const bool limited = std::any_of(model.element_Umax.begin(), model.element_Umax.end(),
-                                   [](double u) { return u > 0; });
-  if (!limited) {
+  if (!has_constraints(model)) {
     profile.skipped[stage] = "scene has no constraints";
     return;
   }
@@ -91,11 +98,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
   int sqp = 0, pgs = 0;
-  double worst = 0;
   for (int k = 0;; ++k) {
-    worst = build_rows(model, x0 + h * s.v, keep, s.rows);
+    const double worst = build_rows(model, x0 + h * s.v, s.v, keep, s.rows, profile);
     const int m = s.rows.size();
-    if (m == 0 || worst <= cfg.sqp_tolerance || k == cfg.sqp_max_iterations) break;
+    if (m == 0 || worst <= 1 || k == cfg.sqp_max_iterations) break;
     ++sqp;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
@@ -141,10 +147,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     profile.skipped[stage] = s.rows.size() ? "no row violated" : "no near-active constraint";
     s.warm_start.clear();
   }
-  profile.rows["energy"] = s.rows.count(RowKind::Energy);
+  for (int kind = 0; kind < kRowKindCount; ++kind)
+    if (const int n = s.rows.count(static_cast<RowKind>(kind))) profile.rows[row_kind_name(static_cast<RowKind>(kind))] = n;
   profile.iterations["sqp"] += sqp;
   profile.iterations["pgs"] += pgs;
-  profile.violation["energy"] = std::max(0.0, worst);
 }
 
 }  // namespace sinew
