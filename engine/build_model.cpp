@@ -39,7 +39,7 @@ void build_geometry(const SceneDesc& scene, const BodyDesc& desc, Body& body,
     const double resolution =
         desc.surface_resolution > 0 ? desc.surface_resolution : desc.cell_size / 3;
     body.rest_surface = mesh_shape_surface(shape, resolution);
-    body.lattice = voxelize_shape(shape, desc.cell_size);
+    body.lattice = voxelize_shape(shape, desc.cell_size, body.rest_surface.vertices);
   }
   if (body.lattice.cells.empty())
     throw InputError(where(scene, desc.json_path + ".cell_size") +

@@ -1,10 +1,11 @@
 // Voxelization: which cells of a regular grid become hexahedra of the simulation lattice.
 //
 // Grid. Axis-aligned, cubic cells of edge h. Along each axis the grid has
-// n = ceil(extent / h + 1) cells and is centred on the solid's bounding box, so the box is
-// covered with a margin of at least h/2 on each side, and a face of the bounding box never
-// falls on a grid plane (that would happen only if n h - extent were a whole number of
-// cells, but it is then exactly h).
+// n = max(1, ceil(extent / h)) cells and is centred on the solid's bounding box, so a box
+// whose sides are whole multiples of h is covered exactly by its cells (1 m x 0.1 m x
+// 0.1 m at h = 0.05 gives 20 x 2 x 2), and a cylinder of diameter 0.12 m at h = 1/14 m gives
+// two cells across, as in paper 000's 56-hex beam. Points that must be embedded but fall
+// outside the grid grow it by whole cells.
 //
 // Shapes (voxelize_shape). A cell is kept when the solid may overlap it, decided with the
 // SDF as a lower bound of the distance to the solid: sdf(c) <= 0 at a point c of the cell
@@ -64,7 +65,7 @@ void check_grid_size(const Grid& g) {
                                 " gives a grid of " + std::to_string(cells) + " cells, too many");
 }
 
-// Centred grid with n = ceil(extent / h + 1) cells per axis (see the top of the file).
+// Centred grid with n = max(1, ceil(extent / h)) cells per axis (see the top of the file).
 Grid grid_over(const Aabb& b, double h) {
   check_cell_size(h);
   if (b.empty()) throw std::invalid_argument("voxelize: the solid has empty bounds");
@@ -72,8 +73,8 @@ Grid grid_over(const Aabb& b, double h) {
   g.h = h;
   const Vec3 extent = b.hi - b.lo;
   for (int a = 0; a < 3; ++a) {
-    // The 1e-9 keeps extent = m h (up to rounding) at m + 1 cells, not m + 2.
-    const double cells = std::ceil(extent[a] / h + 1 - 1e-9);
+    // The 1e-9 keeps extent = m h (up to rounding) at m cells, not m + 1.
+    const double cells = std::max(1.0, std::ceil(extent[a] / h - 1e-9));
     if (!(cells < 1e9)) throw std::invalid_argument("voxelize: grid too large for cell size");
     g.n[a] = int(cells);
     g.origin[a] = 0.5 * (b.lo[a] + b.hi[a]) - 0.5 * g.n[a] * h;

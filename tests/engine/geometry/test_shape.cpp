@@ -96,6 +96,12 @@ TEST_CASE("shape: rotation maps local to world") {
   CHECK((b.lo - (c - Vec3(1, 0.5, 0.5))).norm() < kTol);
   CHECK((b.hi - (c + Vec3(1, 0.5, 0.5))).norm() < kTol);
 
+  // An asymmetric turn (30 degrees about z): the tip of a capsule is at c + R (0, h + r, 0).
+  const Mat3 r30 = Eigen::AngleAxisd(M_PI / 6, Vec3::UnitZ()).toRotationMatrix();
+  const Primitive cap = make(PrimitiveKind::Capsule, Vec3(0.5, 1, 0), c, r30);
+  CHECK(std::abs(cap.sdf(c + r30 * Vec3(0, 1.7, 0)) - 0.2) < kTol);
+  CHECK(std::abs(cap.sdf(c + r30 * Vec3(0.9, -0.4, 0)) - 0.4) < kTol);
+
   // A box turned 45 degrees about z: its corner (1, 1, 0) goes to (0, sqrt 2, 0).
   const Mat3 r45 = Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ()).toRotationMatrix();
   const Primitive box = make(PrimitiveKind::Box, Vec3(1, 1, 1), Vec3::Zero(), r45);
@@ -132,6 +138,11 @@ TEST_CASE("shape: ellipsoid sign is exact and distance is a close lower bound") 
   const Primitive er = make(PrimitiveKind::Ellipsoid, a, Vec3::Zero(), r);
   CHECK(std::abs(er.bounds().hi.x() - 0.4) < kTol);
   CHECK(std::abs(er.bounds().hi.y() - 1.0) < kTol);
+  // Turned 45 degrees the bounds are tight: hi_x = sqrt((1 cos45)^2 + (0.4 sin45)^2).
+  const Mat3 r45 = Eigen::AngleAxisd(M_PI / 4, Vec3::UnitZ()).toRotationMatrix();
+  const Primitive e45 = make(PrimitiveKind::Ellipsoid, a, Vec3::Zero(), r45);
+  CHECK(std::abs(e45.bounds().hi.x() - std::sqrt(0.5 + 0.5 * 0.16)) < kTol);
+  CHECK(std::abs(e45.bounds().hi.z() - 0.2) < kTol);
 }
 
 TEST_CASE("shape: union is the minimum and its bounds the union") {

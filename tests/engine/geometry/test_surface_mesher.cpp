@@ -72,6 +72,19 @@ double capsule_volume(double r, double h) { return M_PI * r * r * 2 * h + sphere
 
 }  // namespace
 
+TEST_CASE("surface_mesher: count_open_edges, the closedness oracle used below") {
+  TriMesh tet;
+  tet.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1), Vec3(1, 1, 1)};
+  tet.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  CHECK(sinew::count_open_edges(tet) == 0);
+  TriMesh open = tet;
+  open.triangles.pop_back();  // a hole: its 3 edges are used once
+  CHECK(sinew::count_open_edges(open) == 3);
+  TriMesh fin = tet;
+  fin.triangles.push_back({1, 2, 4});  // edge 1-2 used 3 times, edges 2-4 and 4-1 once
+  CHECK(sinew::count_open_edges(fin) == 3);
+}
+
 TEST_CASE("surface_mesher: sphere is closed, outward and on the surface") {
   const double R = 1.0;
   // res = 0.25 puts grid points exactly on the sphere (e.g. (1, 0, 0)): the zero-value case.

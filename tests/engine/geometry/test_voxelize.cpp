@@ -104,13 +104,13 @@ TEST_CASE("voxelize: box lattice counts, node order and shared nodes") {
 }
 
 TEST_CASE("voxelize: box shape fills its centred grid") {
-  // Extents (1, 0.6, 0.2) are whole multiples of h = 0.1, so each axis gets extent/h + 1
-  // cells with exactly h/2 of margin: every cell is at least half inside the box. (In
-  // floating point 0.2 / 0.1 + 1 here is 3.0000000000000004: it must not round up to 4.)
+  // Extents (1, 0.6, 0.2) are whole multiples of h = 0.1, so each axis gets extent/h cells
+  // that tile the box exactly. (In floating point 0.2 / 0.1 can come out a hair above 2:
+  // it must not round up to 3.)
   const Shape box = one_part(PrimitiveKind::Box, Vec3(0.5, 0.3, 0.1), Vec3(0.3, -0.2, 0.2));
   const HexLattice lat = sinew::voxelize_shape(box, 0.1);
-  CHECK(lat.cells.size() == 11u * 7u * 3u);
-  CHECK(lat.nodes.size() == 12u * 8u * 4u);
+  CHECK(lat.cells.size() == 10u * 6u * 2u);
+  CHECK(lat.nodes.size() == 11u * 7u * 3u);
   check_lattice_structure(lat);
 }
 
@@ -144,17 +144,14 @@ TEST_CASE("voxelize: sphere cells cover the sphere and converge to its volume fr
 
 TEST_CASE("voxelize: 1 m beam of 12 cm diameter") {
   // Cylinder along x (local y turned onto x). With h = 0.1 the centred grid has
-  // ceil(0.12/0.1 + 1) = 3 cells across: the circle (r = 0.06) reaches the middle cell and
-  // its 4 side neighbours but not the corner cells (nearest corner point is
-  // 0.05 sqrt 2 = 0.0707 from the axis, 0.0107 = 0.107 h outside, more than the
-  // sqrt(3) h / 32 = 0.054 h that the rule may over-reach). Along the axis
-  // ceil(1/0.1 + 1) = 11 cells, all reached (the end ones by 0.05). So 5 * 11 = 55.
+  // ceil(0.12/0.1) = 2 cells across, spanning [-0.1, 0.1] around the axis: the circle
+  // (r = 0.06) reaches all four. Along the axis ceil(1/0.1) = 10 cells. So 4 * 10 = 40.
   const Mat3 r = Eigen::AngleAxisd(-M_PI / 2, Vec3::UnitZ()).toRotationMatrix();
   const Shape beam = one_part(PrimitiveKind::Cylinder, Vec3(0.06, 0.5, 0), Vec3(0.2, 1.0, 0.5), r);
   const double h = 0.1;
   const HexLattice lat = sinew::voxelize_shape(beam, h);
   MESSAGE("beam: cell size " << h << " m -> " << lat.cells.size() << " cells, " << lat.nodes.size() << " nodes");
-  CHECK(lat.cells.size() == 55);
+  CHECK(lat.cells.size() == 40);
   check_lattice_structure(lat);
 }
 
@@ -179,9 +176,8 @@ TEST_CASE("voxelize: must_cover keeps the cells of the surface mesh vertices") {
 
 TEST_CASE("voxelize: mesh cells are the inside centres plus the vertex cells") {
   SUBCASE("unit cube of 12 triangles") {
-    // h = 0.3 over [0, 1]^3: ceil(1/0.3 + 1) = 5 cells from -0.25, centres at
-    // -0.1, 0.2, 0.5, 0.8, 1.1: 3^3 centres inside, plus the 8 corner vertices' cells.
-    // Rays at y = z = 0.2, 0.5, 0.8 pass (but for the tiny shift) through face diagonals.
+    // h = 0.3 over [0, 1]^3: ceil(1/0.3) = 4 cells from -0.1, centres at 0.05, 0.35,
+    // 0.65, 0.95: all 4^3 centres inside; the corner vertices lie in corner cells already.
     TriMesh cube;
     for (int n = 0; n < 8; ++n) cube.vertices.emplace_back((n >> 2) & 1, (n >> 1) & 1, n & 1);
     const int quads[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
@@ -191,7 +187,7 @@ TEST_CASE("voxelize: mesh cells are the inside centres plus the vertex cells") {
     }
     REQUIRE(sinew::count_open_edges(cube) == 0);
     const HexLattice lat = sinew::voxelize_mesh(cube, 0.3);
-    CHECK(lat.cells.size() == 27 + 8);
+    CHECK(lat.cells.size() == 64);
     check_lattice_structure(lat);
   }
   SUBCASE("meshed sphere against the exact sphere") {
