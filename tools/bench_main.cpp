@@ -35,7 +35,7 @@ SceneDesc armadillo_scene() {
   const std::string text = R"({"name": "armadillo365", "h": 0.0166667,
     "bodies": [{"name": "armadillo", "mesh": ")" + mesh + R"(",
       "transform": {"scale": 2.0},
-      "cell_size": 0.2,
+      "cell_size": 0.163,
       "material": {"E": 5e5, "nu": 0.3, "rho": 500}, "damping": {"stiffness": 0.01},
       "fixed": [{"half_space": {"point": [0, -1.0, 0], "normal": [0, 1, 0]}}]}]})";
   return parse_scene_text(text, "armadillo365", source_dir());
@@ -57,8 +57,9 @@ std::vector<BenchScene> all_scenes() {
           {"block10k", block10k_scene}};
 }
 
-nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps) {
-  const SceneDesc scene = bench.make();
+nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const std::string& linear) {
+  SceneDesc scene = bench.make();
+  if (!linear.empty()) scene.solver.linear = linear;
   World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
   for (int i = 0; i < warmup; ++i) world.step();
   std::vector<FrameStats> samples;
@@ -71,7 +72,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps) {
     std::printf("  %-12s median %9.4f ms   p95 %9.4f ms   max %9.4f ms\n", s.name.c_str(), s.median,
                 s.p95, s.max);
   }
-  return {{"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
+  return {{"linear", scene.solver.linear}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
           {"steps", steps}, {"warmup", warmup}, {"finite", world.state().x.allFinite()},
           {"stages", stages}};
 }
@@ -79,7 +80,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string out = "bench_results.json", only;
+  std::string out = "bench_results.json", only, linear;
   int steps = 100, warmup = 10, threads = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -92,8 +93,9 @@ int main(int argc, char** argv) {
     else if (arg == "--warmup") warmup = std::stoi(next());
     else if (arg == "--threads") threads = std::stoi(next());
     else if (arg == "--scene") only = next();
+    else if (arg == "--linear") linear = next();
     else {
-      std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--out FILE]\n"
+      std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--out FILE]\n"
                   "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k\n");
       return arg == "--help" ? 0 : 2;
     }
@@ -106,7 +108,7 @@ int main(int argc, char** argv) {
   for (const BenchScene& bench : all_scenes()) {
     if (!only.empty() && bench.name != only) continue;
     try {
-      results["scenes"][bench.name] = bench_scene(bench, warmup, steps);
+      results["scenes"][bench.name] = bench_scene(bench, warmup, steps, linear);
     } catch (const std::exception& e) {
       std::printf("%-14s skipped: %s\n", bench.name.c_str(), e.what());
       results["scenes"][bench.name] = {{"skipped", e.what()}};

@@ -17,16 +17,14 @@
 #include "engine/simulate_frame.hpp"
 #include "tools/cli_commands.hpp"
 #include "tools/cli_options.hpp"
+#include "tools/cli_render.hpp"
 
 namespace sinew::cli {
 namespace {
 
 Options run_options() {
-  return Options(
-      "sinew run SCENE [options]",
-      "Simulates SCENE (a JSON file, see docs/scenes.md) without a window, as fast as\n"
-      "possible, and prints a per-stage timing summary (median and max per frame).",
-      {{"--frames", "N", "frames to simulate (default: the scene's \"frames\")"},
+  std::vector<OptionSpec> specs = {
+      {"--frames", "N", "frames to simulate (default: the scene's \"frames\")"},
        {"--threads", "T", "worker threads (default: all cores); results do not depend on T"},
        {"--stats", "FILE", "write per-frame statistics as JSON (frames, stages, rows, iterations,\n"
                            "                          violation, kinetic energy, finite) plus a summary"},
@@ -34,8 +32,13 @@ Options run_options() {
        {"--export-vtu", "DIR", "write each body's lattice per frame with per-element fields\n"
                                "                          (energy_density, volume_ratio, energy_ratio):\n"
                                "                          DIR/BODY_NNNNN.vtu and the index DIR/BODY.pvd"},
-       {"--quiet", "", "print nothing but errors"}},
-      1);
+       {"--quiet", "", "print nothing but errors"}};
+  for (OptionSpec& s : render_option_specs()) specs.push_back(std::move(s));
+  return Options("sinew run SCENE [options]",
+                 "Simulates SCENE (a JSON file, see docs/scenes.md) without a window, as fast as\n"
+                 "possible, and prints a per-stage timing summary (median and max per frame);\n"
+                 "optionally records a video or screenshots, drawn off-screen (EGL, no display needed).",
+                 std::move(specs), 1);
 }
 
 std::string frame_file(const std::string& dir, const std::string& body, int frame, const char* ext) {
@@ -115,6 +118,12 @@ int run_command(int argc, char** argv) {
   // Options first, so that a typo is reported before a long scene load.
   const int frames_option = opts.get_int("--frames", 0, 1);
   const int threads = opts.get_int("--threads", 0, 1);
+  const RenderRequest render_request = parse_render_request(opts);
+  if (!render_request.wanted() && (opts.has("--wireframe") || opts.has("--color-map") || opts.has("--size")))
+    warn("--wireframe, --color-map and --size only matter with --record or --screenshot");
+  // Before the scene loads: a missing ffmpeg or EGL fails at once, not after a long run.
+  std::unique_ptr<CliRenderer> renderer;
+  if (render_request.wanted()) renderer = std::make_unique<CliRenderer>(render_request, quiet);
   SceneDesc scene = load_scene(opts.positional()[0]);
   const int frames = frames_option > 0 ? frames_option : scene.frames;
   std::unique_ptr<tbb::global_control> thread_limit;
@@ -136,6 +145,10 @@ int run_command(int argc, char** argv) {
   Exporter exporter{opts.get("--export-obj"), opts.get("--export-vtu"), {}};
   exporter.start(model);
   exporter.write(world, 0);
+  if (renderer) {
+    renderer->start(model, scene.fps, frames, warn);
+    renderer->frame(world, 0);
+  }
 
   std::vector<FrameStats> stats;
   Progress progress("run", quiet ? 0 : frames);
@@ -145,9 +158,11 @@ int run_command(int argc, char** argv) {
     stats.push_back(simulate_frame(world, scene.steps_per_frame()));
     finite = stats.back().finite;
     exporter.write(world, f);
+    if (renderer) renderer->frame(world, f);
     progress.update(f);
   }
   progress.finish();
+  if (renderer) renderer->finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   if (opts.has("--stats"))

@@ -107,7 +107,9 @@ Grid grow_to_cover(Grid g, const std::vector<Vec3>& points) {
 void mark_cells_holding(const Grid& g, const std::vector<Vec3>& points, std::vector<char>& keep) {
   for (const Vec3& p : points) {
     auto c = grid_cell_of(g.origin, g.h, p);
-    for (int a = 0; a < 3; ++a) c[a] = std::clamp(c[a], 0, g.n[a] - 1);  // only rounding can clamp
+    // Points on the grid's far faces (e.g. mesh vertices at the bounds' maximum) floor to
+    // the cell past the grid: they belong to the last cell, whose closed box holds them.
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(c[a], 0, g.n[a] - 1);
     keep[g.cell_index(c[0], c[1], c[2])] = 1;
   }
 }

@@ -6,9 +6,6 @@ LinearSolver::LinearSolver(const SolverDesc& desc)
     : m_use_cholmod(desc.linear != "pcg"), m_desc(desc) {
   m_pcg.setTolerance(desc.pcg_tolerance);
   m_pcg.setMaxIterations(desc.pcg_max_iterations);
-  // Simplicial LDL^T: for the few-thousand-DOF systems of real-time scenes it factorises
-  // several times faster than the supernodal path (no BLAS call overhead per supernode).
-  m_cholmod.setMode(Eigen::CholmodLDLt);
 }
 
 bool LinearSolver::factorize(const SparseMatrix& A) {
@@ -18,6 +15,10 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
     return m_pcg.info() == Eigen::Success;
   }
   if (!m_analyzed) {
+    // Simplicial LDL^T factorises the few-thousand-DOF systems of real-time scenes faster
+    // than the supernodal path (no BLAS call per supernode); larger 3D lattices have
+    // supernodes big enough for BLAS to win by orders of magnitude.
+    m_cholmod.setMode(A.rows() < kSupernodalThreshold ? Eigen::CholmodLDLt : Eigen::CholmodSupernodalLLt);
     m_cholmod.analyzePattern(A);
     m_analyzed = true;
   }

@@ -14,6 +14,7 @@ namespace sinew {
 
 class LinearSolver {
  public:
+  static constexpr int kSupernodalThreshold = 1000;  // DOFs
   explicit LinearSolver(const SolverDesc& desc);
   // Numeric factorisation (CHOLMOD) or preconditioner setup (PCG). The first call, and
   // any call after reset_pattern(), also runs the symbolic analysis. False if A is not SPD.
