@@ -21,6 +21,8 @@ Vec3 transform_point(const BodyDesc& desc, const Vec3& p) {
 // Reads the OBJ or meshes the analytic shape, then voxelises it.
 void build_geometry(const SceneDesc& scene, const BodyDesc& desc, Body& body,
                     const std::function<void(const std::string&)>& warn) {
+  if (desc.mesh_path.empty() && desc.shape.parts.empty())
+    throw InputError(where(scene, desc.json_path + ".shape") + "the lattice is empty: expected at least one primitive");
   if (!desc.mesh_path.empty()) {
     body.rest_surface = read_obj(desc.mesh_path);
     for (Vec3& p : body.rest_surface.vertices) p = transform_point(desc, p);
@@ -46,6 +48,7 @@ void build_geometry(const SceneDesc& scene, const BodyDesc& desc, Body& body,
                      "the lattice is empty: no cell of size " + std::to_string(desc.cell_size) +
                      " m overlaps the body; expected a cell size smaller than the body");
   body.embedding = embed_points(body.lattice, body.rest_surface.vertices);
+  body.surface_cells = group_surface_by_cell(body.embedding, body.num_elements());
 }
 
 double element_energy_limit(const BodyDesc& desc, const Vec3& rest_centre) {

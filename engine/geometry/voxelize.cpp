@@ -13,8 +13,9 @@
 // boxes are split into 8 octants, down to 4 levels (boxes of h/16); a box still undecided
 // there is kept. So every cell that holds a point of the solid, in particular of its
 // surface, is kept; so are a few cells that only come within sqrt(3) h / 32 of it.
-// Points passed as `must_cover` (e.g. the vertices of the surface mesh, which are off the
-// exact surface by the meshing error) also keep the cell that holds them.
+// Points passed as `must_cover` farther than 0.05 h from every kept cell (e.g. vertices of
+// the surface mesh, which are off the exact surface by the meshing error) also keep the
+// cell that holds them.
 //
 // Meshes (voxelize_mesh). A cell is kept when its centre is inside the closed surface
 // (odd number of crossings of a ray along +x), or when it holds a mesh vertex, so that
@@ -83,6 +84,11 @@ Grid grid_over(const Aabb& b, double h) {
   return g;
 }
 
+// Surface-mesh vertices sit off the exact surface by the meshing error, or exactly on a
+// grid plane; a point within this many cells of a kept cell embeds there with weights a
+// hair outside [0, 1], which is harmless, while a new layer of cells is not.
+constexpr double kCoverSlack = 0.05;
+
 // Grows the grid by whole cells so that every point lies in it, one spare cell beyond the
 // farthest point so that rounding against the shifted origin cannot leave the grid.
 Grid grow_to_cover(Grid g, const std::vector<Vec3>& points) {
@@ -90,8 +96,13 @@ Grid grow_to_cover(Grid g, const std::vector<Vec3>& points) {
   std::array<int, 3> hi{g.n[0] - 1, g.n[1] - 1, g.n[2] - 1};
   for (const Vec3& p : points) {
     if (!p.allFinite()) throw std::invalid_argument("voxelize: a point to cover is not finite");
-    const auto c = grid_cell_of(g.origin, g.h, p);
+    auto c = grid_cell_of(g.origin, g.h, p);
     for (int a = 0; a < 3; ++a) {
+      // A point within the slack of the grid's faces (e.g. a vertex on a box face that
+      // lies on the last grid plane) needs no new layer of cells.
+      const double t = (p[a] - g.origin[a]) / g.h;
+      if (t >= -kCoverSlack && t < 0) c[a] = 0;
+      if (t >= g.n[a] && t <= g.n[a] + kCoverSlack) c[a] = g.n[a] - 1;
       if (c[a] < lo[a]) lo[a] = c[a] - 1;
       if (c[a] > hi[a]) hi[a] = c[a] + 1;
     }
@@ -111,6 +122,26 @@ void mark_cells_holding(const Grid& g, const std::vector<Vec3>& points, std::vec
     // the cell past the grid: they belong to the last cell, whose closed box holds them.
     for (int a = 0; a < 3; ++a) c[a] = std::clamp(c[a], 0, g.n[a] - 1);
     keep[g.cell_index(c[0], c[1], c[2])] = 1;
+  }
+}
+
+// Keeps the cell of each point that is farther than kCoverSlack cells from every kept
+// cell (see kCoverSlack).
+
+void mark_uncovered_cells(const Grid& g, const std::vector<Vec3>& points, std::vector<char>& keep) {
+  const std::vector<char> solid = keep;
+  auto kept = [&](const std::array<int, 3>& c) {
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < 0 || c[a] >= g.n[a]) return false;
+    return solid[g.cell_index(c[0], c[1], c[2])] != 0;
+  };
+  for (const Vec3& p : points) {
+    bool covered = false;
+    for (int n = 0; n < 27 && !covered; ++n) {
+      const Vec3 shift = kCoverSlack * g.h * Vec3(n % 3 - 1, (n / 3) % 3 - 1, n / 9 - 1);
+      covered = kept(grid_cell_of(g.origin, g.h, p + shift));
+    }
+    if (!covered) mark_cells_holding(g, {p}, keep);
   }
 }
 
@@ -177,7 +208,7 @@ HexLattice voxelize_shape_on(const Shape& shape, const Grid& g, const std::vecto
         for (int i = 0; i < g.n[0]; ++i)
           keep[g.cell_index(i, j, k)] = may_overlap(shape, g.cell_center(i, j, k), 0.5 * g.h, kOverlapLevels);
   });
-  mark_cells_holding(g, must_cover, keep);
+  mark_uncovered_cells(g, must_cover, keep);
   return build_lattice(g, keep);
 }
 
