@@ -2,6 +2,7 @@
 #include <map>
 #include <tuple>
 
+#include "engine/collision/mesh_sdf.hpp"
 #include "engine/core/error.hpp"
 #include "engine/geometry/obj_reader.hpp"
 #include "engine/geometry/surface_mesher.hpp"
@@ -65,6 +66,8 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
   Model model;
   model.scene_name = scene.name;
   model.obstacles = scene.obstacles;
+  for (ObstacleDesc& ob : model.obstacles)
+    if (ob.kind == ObstacleDesc::Kind::Mesh) ob.mesh = load_mesh_obstacle(ob);
   model.solver = scene.solver;
   model.gravity = scene.gravity;
   model.h = scene.h;

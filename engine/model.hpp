@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/assembly/system_pattern.hpp"
+#include "engine/collision/surface_cells.hpp"
 #include "engine/fem/hex8.hpp"
 #include "engine/geometry/embedding.hpp"
 #include "engine/geometry/hex_lattice.hpp"
@@ -20,6 +21,7 @@ struct Body {
   int element_offset = 0;      // first global element
   TriMesh rest_surface;        // embedded surface at rest (renders and collides)
   Embedding embedding;         // surface vertex -> cell + trilinear weights
+  SurfaceCells surface_cells;  // cell -> its surface vertices (contact broad phase)
   MaterialDesc material;
   double damping_mass = 0;     // Rayleigh alpha
   double damping_stiffness = 0;  // Rayleigh beta

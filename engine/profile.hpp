@@ -7,12 +7,16 @@
 
 namespace sinew {
 
-enum class Stage { Assemble, Factorize, Solve, Constraints, Integrate, Surface, Count };
+// Disjoint: the stages' times add up to the step's. Rows to Pgs make up the constraint
+// solve (paper 000, section 5).
+enum class Stage {
+  Assemble, Factorize, Solve, Rows, SqpFactorize, SqpSolve, Pgs, Integrate, Surface, Count
+};
 constexpr int kStageCount = static_cast<int>(Stage::Count);
 
 inline const char* stage_name(Stage s) {
-  static const char* names[] = {"assemble", "factorize", "solve", "constraints", "integrate",
-                                "surface"};
+  static const char* names[] = {"assemble", "factorize", "solve", "rows", "sqp_factorize",
+                                "sqp_solve", "pgs", "integrate", "surface"};
   return names[static_cast<int>(s)];
 }
 
@@ -31,12 +35,17 @@ class StageTimer {
  public:
   StageTimer(StepProfile& profile, Stage stage)
       : m_profile(profile), m_stage(stage), m_start(std::chrono::steady_clock::now()) {}
-  ~StageTimer() {
+  ~StageTimer() { stop(); }
+  // Adds the time so far to the stage; later calls (and the destructor) add nothing.
+  void stop() {
+    if (m_stopped) return;
+    m_stopped = true;
     const auto end = std::chrono::steady_clock::now();
     m_profile.ms[static_cast<int>(m_stage)] +=
         std::chrono::duration<double, std::milli>(end - m_start).count();
   }
  private:
+  bool m_stopped = false;
   StepProfile& m_profile;
   Stage m_stage;
   std::chrono::steady_clock::time_point m_start;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "engine/assembly/system_pattern.hpp"
+#include "engine/collision/body_surfaces.hpp"
 #include "engine/constraints/row_table.hpp"
 #include "engine/core/types.hpp"
 #include "engine/profile.hpp"
@@ -24,9 +25,13 @@ struct State {
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
   MatX constraint_dirs;              // 3 * free x rows: J^T, then A^-1 J^T (constraints, scratch)
-  SparseMatrix sqp_system;           // A plus the constraint Hessian of SQP (constraints)
+  SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
+  std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from
+                                     // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T
+  bool factor_curved = false;        // the solver holds H (true) or A (false)
   std::vector<double> element_scratch;  // per element, scratch of assemble and constraints
   std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
+  BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)
   StepProfile profile;               // of the last step
 };
 

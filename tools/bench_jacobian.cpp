@@ -38,7 +38,8 @@ Outcome run(double Umax, const std::string& jacobian, int frames) {
       o.pgs += p.iterations.count("pgs") ? p.iterations.at("pgs") : 0;
       o.capped += sqp >= scene.solver.sqp_max_iterations;
       o.worst = std::max(o.worst, p.violation.count("energy") ? p.violation.at("energy") : 0.0);
-      const double c = p.ms[static_cast<int>(Stage::Constraints)];
+      double c = 0;
+      for (Stage st : {Stage::Rows, Stage::SqpFactorize, Stage::SqpSolve, Stage::Pgs}) c += p.ms[static_cast<int>(st)];
       o.constraint_ms_total += c;
       ms.push_back(c);
       ++o.steps;

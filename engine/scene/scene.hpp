@@ -1,6 +1,7 @@
 #pragma once
 // A scene as read from JSON (SI units). Schema: docs/scenes.md. Parsing validates
 // everything it can without building the simulation; errors name the file and JSON path.
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -57,12 +58,39 @@ struct BodyDesc {
   EnergyLimitDesc energy_limit;
 };
 
+// Scripted motion of a kinematic obstacle: a pure translation of its reference point (the
+// plane's `point`, the centre of the other types). Rotation is fixed.
+struct ObstacleKeyframe {
+  double t = 0;                    // s
+  Vec3 position = Vec3::Zero();    // m, the reference point at time t
+};
+struct ObstacleMotion {
+  // Constant velocity (used when keyframes is empty): position(t) = point + velocity t.
+  Vec3 velocity = Vec3::Zero();    // m/s
+  // Else piecewise linear between keyframes (t strictly increasing), held before the first
+  // and after the last.
+  std::vector<ObstacleKeyframe> keyframes;
+};
+
+class MeshSdf;  // engine/collision/mesh_sdf.hpp
+
+// An infinitely stiff obstacle with a signed distance (engine/collision/obstacle_sdf.hpp).
 struct ObstacleDesc {
+  enum class Kind { Plane, Box, Sphere, Capsule, Mesh };
   std::string json_path;
-  std::string type = "plane";      // "plane" for now
-  Vec3 point = Vec3::Zero();
-  Vec3 normal = Vec3::UnitY();     // normalised by the parser
+  std::string type = "plane";      // "plane", "box", "sphere", "capsule" or "mesh"
+  Kind kind = Kind::Plane;         // the same, parsed
+  Vec3 point = Vec3::Zero();       // plane: a point on it; others: the centre (at t = 0)
+  Vec3 normal = Vec3::UnitY();     // plane: normalised by the parser, points to the free side
+  Vec3 half_extents = Vec3::Constant(0.5);  // box, m
+  double radius = 0.5;             // sphere, capsule, m
+  double half_length = 0;          // capsule: half the axis segment (local y), m
+  Mat3 rotation = Mat3::Identity();  // box, capsule, mesh: local to world
+  std::string mesh_path;           // mesh: OBJ file (absolute), a closed surface
+  double scale = 1;                // mesh: x = point + rotation * (scale * x_obj)
+  std::shared_ptr<const MeshSdf> mesh;  // mesh: built by build_model(), null before
   double friction = 0.5;           // Coulomb mu, >= 0
+  ObstacleMotion motion;
 };
 
 struct SolverDesc {
@@ -74,7 +102,12 @@ struct SolverDesc {
   double pgs_tolerance = 1e-6;     // stop when the largest multiplier change is below this (relative)
   int sqp_max_iterations = 10;
   double sqp_tolerance = 1e-3;     // worst Ue/Umax - 1 accepted
+  double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further
   double activation_margin = 0.05; // rows for elements with Ue/Umax > 1 - margin (predicted)
+  // Contact (engine/constraints/contact_rows.hpp).
+  double contact_tolerance = 1e-4; // m, deepest penetration SQP accepts
+  double contact_margin = -1;      // m, rows for vertices nearer than this; < 0: a quarter of the body's cell size
+  double body_friction = 0.5;      // Coulomb mu between two bodies
 };
 
 struct SceneDesc {

@@ -455,14 +455,73 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
   return b;
 }
 
+const KeyList kObstacleTypes = {"plane", "box", "sphere", "capsule", "mesh"};
+
+// Keys allowed for an obstacle of `type`; the reference point is "point" for a plane and
+// "center" for the others.
+KeyList obstacle_keys(const std::string& type) {
+  KeyList keys{"type", "friction", "motion"};
+  if (type == "plane") keys.insert(keys.end(), {"point", "normal"});
+  if (type == "box") keys.insert(keys.end(), {"center", "half_extents", "rotation_deg"});
+  if (type == "sphere") keys.insert(keys.end(), {"center", "radius"});
+  if (type == "capsule") keys.insert(keys.end(), {"center", "radius", "length", "rotation_deg"});
+  if (type == "mesh") keys.insert(keys.end(), {"mesh", "center", "rotation_deg", "scale"});
+  return keys;
+}
+
+ObstacleMotion parse_motion(const Object& o) {
+  ObstacleMotion m;
+  if (o.one_of("velocity", "keyframes")) {
+    m.velocity = o.require("velocity").vec3();
+    return m;
+  }
+  for (const Node& n : o.require("keyframes").elements(true)) {
+    const Object k(n, {"t", "position"});
+    const Node t = k.require("t");
+    ObstacleKeyframe frame{t.number(), k.require("position").vec3()};
+    if (!m.keyframes.empty() && !(frame.t > m.keyframes.back().t))
+      t.expected("a time greater than the previous keyframe's (" + number_text(m.keyframes.back().t) + ")");
+    m.keyframes.push_back(frame);
+  }
+  return m;
+}
+
 ObstacleDesc parse_obstacle(const Node& node) {
-  const Object o(node, {"type", "point", "normal", "friction"});
+  const Object o(node);
   ObstacleDesc ob;
   ob.json_path = node.path();
-  o.choice("type", ob.type, {"plane"});
-  o.vec3("point", ob.point);
-  if (auto n = o.get("normal")) ob.normal = n->direction();
+  o.choice("type", ob.type, kObstacleTypes);
+  o.check_keys(obstacle_keys(ob.type));
+  const std::string origin_key = ob.type == "plane" ? "point" : "center";
+  if (ob.type == "plane") {
+    ob.kind = ObstacleDesc::Kind::Plane;
+    if (auto n = o.get("normal")) ob.normal = n->direction();
+  } else if (ob.type == "box") {
+    ob.kind = ObstacleDesc::Kind::Box;
+    ob.half_extents = o.require("half_extents").vec3(kPositive);
+  } else if (ob.type == "sphere") {
+    ob.kind = ObstacleDesc::Kind::Sphere;
+    ob.radius = o.require("radius").number(kPositive);
+  } else if (ob.type == "capsule") {
+    ob.kind = ObstacleDesc::Kind::Capsule;
+    ob.radius = o.require("radius").number(kPositive);
+    ob.half_length = 0.5 * o.require("length").number(kNonNegative);
+  } else {
+    ob.kind = ObstacleDesc::Kind::Mesh;
+    ob.mesh_path = resolve_mesh(o.require("mesh"));
+    o.number("scale", ob.scale, kPositive);
+  }
+  if (auto r = o.get("rotation_deg")) ob.rotation = rotation_from_euler_deg(r->vec3());
+  o.vec3(origin_key, ob.point);
   o.number("friction", ob.friction, kNonNegative);
+  if (auto m = o.get("motion")) {
+    ob.motion = parse_motion(Object(*m, {"velocity", "keyframes"}));
+    // Keyframes place the obstacle at every time: a second, static position would be ignored.
+    if (!ob.motion.keyframes.empty() && o.has(origin_key))
+      o.require(origin_key).fail("not allowed with 'motion.keyframes' (the keyframes give the " +
+                                 origin_key + " at every time)");
+    if (!ob.motion.keyframes.empty()) ob.point = ob.motion.keyframes.front().position;
+  }
   return ob;
 }
 
@@ -476,12 +535,16 @@ SolverDesc parse_solver(const Object& o) {
   o.integer("sqp_max_iterations", s.sqp_max_iterations, kPositive);
   o.number("sqp_tolerance", s.sqp_tolerance, kPositive);
   o.number("activation_margin", s.activation_margin, kFraction);
+  o.number("contact_tolerance", s.contact_tolerance, kPositive);
+  o.number("contact_margin", s.contact_margin, kNonNegative);
+  o.number("body_friction", s.body_friction, kNonNegative);
   return s;
 }
 
 const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_iterations",
                              "pgs_max_iterations", "pgs_tolerance", "sqp_max_iterations",
-                             "sqp_tolerance", "activation_margin"};
+                             "sqp_tolerance", "activation_margin", "contact_tolerance",
+                             "contact_margin", "body_friction"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",
                             "frames", "solver",  "bodies", "obstacles"};
 

@@ -1,6 +1,8 @@
 #include <algorithm>
 
 #include "engine/assembly/scatter_stiffness.hpp"
+#include "engine/constraints/body_contact_rows.hpp"
+#include "engine/constraints/contact_rows.hpp"
 #include "engine/constraints/energy_limit.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
 #include "engine/step/stages.hpp"
@@ -8,32 +10,38 @@
 namespace sinew {
 namespace {
 
-// Builds every kind's rows at the iterate (positions x = x0 + h v, velocities v);
-// returns the worst violation relative to each kind's tolerance (<= 1 means converged).
-// A new kind of constraint adds a line here, not a branch in the solver.
-double build_rows(const Model& model, const VecX& x, const VecX& v, const std::vector<uint64_t>& keep,
-                  RowTable& rows, StepProfile& profile) {
-  (void)v;
+// Builds every kind's rows at the iterate (positions x = x0 + h v, velocities v, obstacles
+// at t_end, the end of the step); returns the worst violation relative to each kind's
+// tolerance (<= 1 means converged). A new kind of constraint adds a line here, not a
+// branch in the solver.
+// Contact: on the first iteration (k = 0) any predicted penetration counts as a violation,
+// so the LCP is solved on every step a contact closes: friction rows have no violation of
+// their own, and waiting for the penetration to exceed the tolerance would let bodies slide
+// freely on the steps in between (and sink, when g h^2 < contact_tolerance).
+double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
+                  const std::vector<uint64_t>& keep, RowTable& rows, BodySurfaces& surfaces, StepProfile& profile) {
   rows.clear();
   const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
   profile.violation["energy"] = std::max(0.0, energy);
-  return energy / model.solver.sqp_tolerance;
+  double worst = energy / model.solver.sqp_tolerance;
+  if (!model.obstacles.empty() || model.bodies.size() > 1) {
+    const double penetration = std::max(add_contact_rows(model, t_end, x, v, keep, rows).deepest,
+                                        add_body_contact_rows(model, x, v, keep, surfaces, rows).deepest);
+    profile.violation["penetration"] = penetration;
+    worst = std::max(worst, penetration / model.solver.contact_tolerance);
+    if (k == 0 && penetration > 0) worst = std::max(worst, 2.0);
+  }
+  return worst;
 }
 
 bool has_constraints(const Model& model) {
-  return std::any_of(model.element_Umax.begin(), model.element_Umax.end(), [](double u) { return u > 0; });
+  return !model.obstacles.empty() || model.bodies.size() > 1 ||
+         std::any_of(model.element_Umax.begin(), model.element_Umax.end(), [](double u) { return u > 0; });
 }
 
 double warm_lambda(const std::vector<std::pair<uint64_t, double>>& warm, uint64_t key) {
   const auto it = std::lower_bound(warm.begin(), warm.end(), std::make_pair(key, -1e300));
   return (it != warm.end() && it->first == key) ? it->second : 0.0;
-}
-
-VecX gather_free(const Model& model, const VecX& full) {
-  VecX out(3 * model.num_free);
-  for (int n = 0; n < model.num_nodes; ++n)
-    if (model.free_index[n] >= 0) out.segment<3>(3 * model.free_index[n]) = full.segment<3>(3 * n);
-  return out;
 }
 
 void scatter_free(const Model& model, const VecX& free, VecX& full) {
@@ -55,83 +63,95 @@ MatX delassus(const Model& model, const RowTable& rows, const MatX& Y) {
   return 0.5 * (W + W.transpose());
 }
 
-// The SQP Hessian H = A + h sum_i lambda_i curvature_i R_e Ke R_e^T (the constraint term
-// of the Lagrangian; lambda is a force impulse, so one h). Returns false when it is A.
-bool build_sqp_system(const Model& model, State& s) {
-  std::vector<double>& coeff = s.element_scratch;
-  coeff.assign(model.num_elements, 0.0);
-  bool any = false;
+// Per element, h sum_i lambda_i curvature_i over its rows: the constraints' part of the
+// Lagrangian Hessian (lambda is an impulse, hence one h).
+void update_curvature(const Model& model, State& s) {
+  s.curvature.assign(model.num_elements, 0.0);
   for (int i = 0; i < s.rows.size(); ++i)
-    if (s.rows.element[i] >= 0 && s.rows.lambda[i] > 0) {
-      coeff[s.rows.element[i]] += model.h * s.rows.lambda[i] * s.rows.curvature[i];
-      any = true;
-    }
-  if (!any) return false;
-  s.sqp_system = s.system;
-  scatter_warped_stiffness(model, s.R, coeff, s.sqp_system.valuePtr());
-  return true;
+    if (s.rows.element[i] >= 0 && s.rows.lambda[i] > 0)
+      s.curvature[s.rows.element[i]] += model.h * s.rows.lambda[i] * s.rows.curvature[i];
 }
 
 }  // namespace
 
 // SQP on   min_v 1/2 v^T A v - b^T v   s.t.  C(x0 + h v) >= 0   (paper 000, section 5):
-// each iteration linearises the rows at x_k = x0 + h v_k, solves the QP
-//   H dv = -(A v_k - b) + J^T lambda,   C_k + h J dv >= 0,   0 <= lambda
-// through the LCP  W lambda + c >= 0 (eq. 23) with W = J H^-1 J^T by PGS, and sets
-// v_k+1 = v_k + dv. On the first iteration H = A (the step's factorisation) and the QP is
-// exactly the paper's LCP; later ones add the constraints' curvature to H, without which
-// the iteration cycles once the limits carry large forces.
+// each iteration linearises the rows at x_k = x0 + h v_k and solves the QP
+//   H dv = -(A v_k - b) + J^T lambda,   C_k + h J dv >= 0,   lo <= lambda <= hi
+// through the LCP  W lambda + c >= 0 (eq. 23), W = J H^-1 J^T, by PGS; v_k+1 = v_k + dv.
+// H = A + sum_e curvature_e R Ke R^T holds the constraints' curvature (without it the
+// iteration cycles once the limits carry large forces). H comes from the step's single
+// factorisation (solve_velocity), built with the previous step's multipliers; it is
+// refactorised with the current ones only when the iteration stalls. With H = A and
+// nothing violated at x* the paper's LCP is not needed and the stage is skipped.
+// Converged when every row meets its tolerance and the last correction moved no node
+// by more than sqp_position_tolerance.
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
-  const int stage = static_cast<int>(Stage::Constraints);
   if (!has_constraints(model)) {
-    profile.skipped[stage] = "scene has no constraints";
+    profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
+    profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles and no energy limits";
     return;
   }
   const SolverDesc& cfg = model.solver;
   const double h = model.h;
   const VecX x0 = s.x;
-  VecX v_free = gather_free(model, s.v);  // v_k; starts at v*
-  bool factor_is_A = true;
+  VecX v_free = s.v_free;  // v_0: the Newton step of solve_velocity
 
   std::vector<uint64_t> keep;
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
-  int sqp = 0, pgs = 0;
+  int sqp = 0, pgs = 0, refactorisations = 0;
+  double last_move = 1e300, previous_move = 1e300;
   for (int k = 0;; ++k) {
-    const double worst = build_rows(model, x0 + h * s.v, s.v, keep, s.rows, profile);
+    const double worst = [&] {
+      StageTimer timer(profile, Stage::Rows);
+      return build_rows(model, s.t + h, k, x0 + h * s.v, s.v, keep, s.rows, s.body_surfaces, profile);
+    }();
     const int m = s.rows.size();
-    if (m == 0 || worst <= 1 || k == cfg.sqp_max_iterations) break;
+    if (k == 0 && !s.factor_curved && (m == 0 || worst <= 1)) break;
+    if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) break;
+    if (k == cfg.sqp_max_iterations) break;
     ++sqp;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
-    // Factorise H (or keep A's factorisation) and take the Newton step without constraints.
     VecX v_base = v_free;
-    const bool curved = build_sqp_system(model, s);
-    if (curved || !factor_is_A) {
-      if (!solver.factorize(curved ? s.sqp_system : s.system)) break;
-      factor_is_A = !curved;
-    }
-    if (k > 0) {
-      VecX step;
-      solver.solve(s.system * v_free - s.rhs, step);
-      v_base -= step;
-    }
-
-    MatX Jt = MatX::Zero(3 * model.num_free, m);
-    for (int i = 0; i < m; ++i)
-      for (int e = s.rows.begin[i]; e < s.rows.begin[i + 1]; ++e) {
-        const int f = model.free_index[s.rows.nodes[e]];
-        if (f >= 0) Jt.block<3, 1>(3 * f, i) = s.rows.jac[e];
+    {
+      StageTimer timer(profile, Stage::SqpFactorize);
+      // Stalled: the stale curvature converges too slowly; refactorise with the current one.
+      if (k >= 2 && last_move > 0.5 * previous_move) {
+        if (!factorize_step_system(model, solver, s)) break;
+        ++refactorisations;
       }
-    MatX& Y = s.constraint_dirs;
-    solver.solve_many(Jt, Y);
-    const MatX W = delassus(model, s.rows, Y);
-    // C_k + h J (v - v_k) >= 0 with v = v_base + Y lambda.
-    const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + Jt.transpose() * (v_base - v_free);
-    pgs += solve_pgs(W, c, s.rows, cfg.pgs_max_iterations, cfg.pgs_tolerance).iterations;
-    v_free = v_base + Y * Eigen::Map<const VecX>(s.rows.lambda.data(), m);
+    }
+    StageTimer solve_timer(profile, Stage::SqpSolve);
+    if (k > 0) {
+      VecX step = VecX::Zero(v_free.size());
+      solver.solve(s.rhs - s.system * v_free, step);
+      v_base += step;
+    }
+    VecX v_next = v_base;
+    if (m > 0) {
+      MatX Jt = MatX::Zero(3 * model.num_free, m);
+      for (int i = 0; i < m; ++i)
+        for (int e = s.rows.begin[i]; e < s.rows.begin[i + 1]; ++e) {
+          const int f = model.free_index[s.rows.nodes[e]];
+          if (f >= 0) Jt.block<3, 1>(3 * f, i) = s.rows.jac[e];
+        }
+      MatX& Y = s.constraint_dirs;
+      solver.solve_many(Jt, Y);
+      const MatX W = delassus(model, s.rows, Y);
+      solve_timer.stop();
+      StageTimer pgs_timer(profile, Stage::Pgs);
+      // C_k + h J (v - v_k) >= 0 with v = v_base + Y lambda.
+      const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + Jt.transpose() * (v_base - v_free);
+      pgs += solve_pgs(W, c, s.rows, cfg.pgs_max_iterations, cfg.pgs_tolerance).iterations;
+      v_next += Y * Eigen::Map<const VecX>(s.rows.lambda.data(), m);
+    }
+    previous_move = last_move;
+    last_move = h * (v_next - v_free).lpNorm<Eigen::Infinity>();
+    v_free = v_next;
     scatter_free(model, v_free, s.v);
+    update_curvature(model, s);
 
     // Rows stay for the rest of the step once active, so the active set only grows.
     s.warm_start.clear();
@@ -143,14 +163,17 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     std::sort(keep.begin(), keep.end());
     keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
   }
+  s.v_free = v_free;
   if (sqp == 0) {
-    profile.skipped[stage] = s.rows.size() ? "no row violated" : "no near-active constraint";
+    profile.skipped[static_cast<int>(Stage::Pgs)] = s.rows.size() ? "no row violated" : "no near-active constraint";
     s.warm_start.clear();
+    s.curvature.clear();
   }
   for (int kind = 0; kind < kRowKindCount; ++kind)
     if (const int n = s.rows.count(static_cast<RowKind>(kind))) profile.rows[row_kind_name(static_cast<RowKind>(kind))] = n;
   profile.iterations["sqp"] += sqp;
   profile.iterations["pgs"] += pgs;
+  if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
 }
 
 }  // namespace sinew

@@ -1,20 +1,39 @@
+#include <algorithm>
+
+#include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
 
+// Factorises H = A + (the constraints' curvature from the previous step, if any) and takes
+// one Newton step from the previous velocities: v = v0 + H^-1 (b - A v0). Without
+// constraints H = A and this is v* = A^-1 b of eq. 19; with them, the same factorisation
+// serves every SQP iteration of the step (solve_constraints), so a step that keeps its
+// contacts and limits costs one factorisation, not one per iteration.
+bool factorize_step_system(const Model& model, LinearSolver& solver, State& state) {
+  state.factor_curved = std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
+  if (state.factor_curved) {
+    state.sqp_system = state.system;
+    scatter_warped_stiffness(model, state.R, state.curvature, state.sqp_system.valuePtr());
+  }
+  return solver.factorize(state.factor_curved ? state.sqp_system : state.system);
+}
+
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   {
     StageTimer timer(state.profile, Stage::Factorize);
-    if (!solver.factorize(state.system)) return false;
+    if (!factorize_step_system(model, solver, state)) return false;
   }
   StageTimer timer(state.profile, Stage::Solve);
-  // PCG warm start: the previous step's velocities.
+  VecX v0(3 * model.num_free);
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];
-    if (fi >= 0) state.v_free.segment<3>(3 * fi) = state.v.segment<3>(3 * n);
+    if (fi >= 0) v0.segment<3>(3 * fi) = state.v.segment<3>(3 * n);
   }
-  const int iterations = solver.solve(state.rhs, state.v_free);
+  VecX delta = VecX::Zero(v0.size());
+  const int iterations = solver.solve(state.rhs - state.system * v0, delta);
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += iterations;
+  state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];
     state.v.segment<3>(3 * n) = fi >= 0 ? Vec3(state.v_free.segment<3>(3 * fi)) : Vec3::Zero();

@@ -10,9 +10,11 @@ namespace sinew {
 //    side b of backward Euler (paper 000, eq. 19) over free DOFs.
 void assemble_system(const Model& model, State& state);
 
-// 2-3. Factorise A and solve A v* = b; v* scattered into state.v (fixed nodes: 0).
-//      Returns false if the factorisation failed.
+// 2-3. Factorise H = A + the constraints' curvature (state.curvature; H = A without
+//      constraints) and take the Newton step v = v0 + H^-1 (b - A v0), which is v* = A^-1 b
+//      when H = A; scattered into state.v (fixed nodes: 0). False if factorisation failed.
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state);
+bool factorize_step_system(const Model& model, LinearSolver& solver, State& state);
 
 // 4. Constraints (paper 000, section 5): rows at x* = x0 + h v*, the LCP of eq. 23 by
 //    projected Gauss-Seidel, and SQP re-linearisation at the corrected positions until

@@ -383,8 +383,8 @@ TEST_CASE("scene parser: string and choice errors") {
   check_error(scene, "bodies[0].energy_limit.jacobian: expected one of \"exact\", \"warped\"");
 
   scene = minimal_scene();
-  scene["obstacles"] = {{{"type", "sphere"}}};
-  check_error(scene, "obstacles[0].type: expected one of \"plane\", got \"sphere\"");
+  scene["obstacles"] = {{{"type", "cone"}}};
+  check_error(scene, "obstacles[0].type: expected one of \"plane\", \"box\", \"sphere\", \"capsule\", got \"cone\"");
 }
 
 TEST_CASE("scene parser: missing required keys") {

@@ -1,0 +1,109 @@
+#include "engine/constraints/contact_rows.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+
+#include "engine/collision/obstacle_motion.hpp"
+#include "engine/collision/obstacle_sdf.hpp"
+#include "engine/constraints/contact_candidates.hpp"
+
+namespace sinew {
+
+void contact_tangents(const Vec3& n, Vec3& t1, Vec3& t2) {
+  const Vec3 e = std::abs(n.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitZ();
+  t1 = e.cross(n).normalized();
+  t2 = n.cross(t1);
+}
+
+double contact_margin(const Model& model, int body) {
+  const double m = model.solver.contact_margin;
+  return m >= 0 ? m : 0.25 * model.bodies[body].lattice.cell_size;
+}
+
+uint64_t contact_key(uint32_t vertex, uint32_t obstacle) { return row_key(RowKind::Contact, vertex, obstacle); }
+
+uint64_t friction_key(uint32_t vertex, uint32_t obstacle, int tangent) {
+  return row_key(RowKind::Friction, vertex, 2 * obstacle + tangent);
+}
+
+namespace {
+
+// A surface vertex tested against one obstacle.
+struct Probe {
+  int vertex = 0;  // index in the body's surface
+  SdfSample sdf;
+  Vec3 velocity;   // v_p = sum_n w_n v_n at the iterate
+};
+
+// Signed distance and velocity of each candidate; each probe is written by one task only.
+void evaluate_probes(const VecX& x, const VecX& v, const Body& body, const ObstacleDesc& ob,
+                     const Vec3& origin, const std::vector<int>& candidates, bool brute_force,
+                     std::vector<Probe>& probes) {
+  probes.resize(candidates.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, candidates.size(), 512), [&](const auto& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      Vec3 p, vp;
+      embedded_point(body, candidates[i], x, v, p, vp);
+      probes[i] = {candidates[i], obstacle_sdf(ob, origin, p, brute_force), vp};
+    }
+  });
+}
+
+// One row with stencil w_n d over the vertex's cell.
+void add_vertex_row(RowTable& rows, RowKind kind, double value, double lo, double hi, uint64_t key,
+                    const Body& body, int vertex, const Vec3& d) {
+  rows.add_row(kind, value, lo, hi, key);
+  const auto& cell = body.lattice.cells[body.embedding.cell[vertex]];
+  const auto& w = body.embedding.weights[vertex];
+  for (int n = 0; n < 8; ++n) rows.add_entry(body.node_offset + cell[n], w[n] * d);
+}
+
+}  // namespace
+
+ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX& x, const VecX& v,
+                                   const std::vector<uint64_t>& keep, RowTable& rows, ContactSearch search) {
+  ContactRowsResult result;
+  const double h = model.h;
+  std::vector<int> candidates;
+  std::vector<Probe> probes;
+  for (uint32_t k = 0; k < model.obstacles.size(); ++k) {
+    const ObstacleDesc& ob = model.obstacles[k];
+    const Vec3 origin = obstacle_position(ob, t_end);
+    const Vec3 v_obstacle = obstacle_velocity(ob, t_end - h, t_end);
+    uint32_t first_vertex = 0;
+    for (int b = 0; b < static_cast<int>(model.bodies.size()); ++b) {
+      const Body& body = model.bodies[b];
+      const double margin = contact_margin(model, b);
+      // Broad phase: cells whose surface bounds may come within the margin of the obstacle.
+      const auto near = [&](const Aabb& box) { return obstacle_distance_bound(ob, origin, box) < margin; };
+      gather_candidates(x, body, near, search == ContactSearch::BruteForce, first_vertex, k, keep, candidates);
+      evaluate_probes(x, v, body, ob, origin, candidates, search == ContactSearch::BruteForce, probes);
+      result.candidates += static_cast<int>(probes.size());
+      for (const Probe& probe : probes) {
+        const uint32_t id = first_vertex + probe.vertex;
+        const uint64_t key = contact_key(id, k);
+        result.deepest = std::max(result.deepest, -probe.sdf.phi);
+        if (probe.sdf.phi >= margin && !std::binary_search(keep.begin(), keep.end(), key)) continue;
+        const int normal = rows.size();
+        add_vertex_row(rows, RowKind::Contact, probe.sdf.phi, 0.0, 1e300, key, body, probe.vertex, probe.sdf.normal);
+        if (ob.friction <= 0) continue;
+        Vec3 t[2];
+        contact_tangents(probe.sdf.normal, t[0], t[1]);
+        for (int j = 0; j < 2; ++j) {
+          const double slip = t[j].dot(probe.velocity - v_obstacle);
+          add_vertex_row(rows, RowKind::Friction, h * slip, -1e300, 1e300, friction_key(id, k, j), body,
+                         probe.vertex, t[j]);
+          rows.normal_row.back() = normal;
+          rows.mu.back() = ob.friction;
+        }
+      }
+      first_vertex += static_cast<uint32_t>(body.embedding.cell.size());
+    }
+  }
+  return result;
+}
+
+}  // namespace sinew
