@@ -54,7 +54,9 @@ SceneDesc block10k_scene() {
 std::vector<BenchScene> all_scenes() {
   return {{"beam56", [] { return scene_file("assets/scenes/paper000_beam_150kPa.json"); }},
           {"armadillo365", armadillo_scene},
-          {"block10k", block10k_scene}};
+          {"block10k", block10k_scene},
+          // Paper 000, fig. 6: ~365 hex, energy limits (100 J) and ground contact.
+          {"creature365", [] { return scene_file("assets/scenes/paper000_creature_500kPa_U100.json"); }}};
 }
 
 nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const std::string& linear) {
@@ -72,7 +74,17 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
     std::printf("  %-12s median %9.4f ms   p95 %9.4f ms   max %9.4f ms\n", s.name.c_str(), s.median,
                 s.p95, s.max);
   }
-  return {{"linear", scene.solver.linear}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
+  std::vector<double> rows, sqp;
+  for (const FrameStats& f : samples) {
+    double total = 0;
+    for (const auto& [kind, n] : f.rows) total += n;
+    rows.push_back(total);
+    sqp.push_back(f.iterations.count("sqp") ? f.iterations.at("sqp") : 0);
+  }
+  std::printf("  constraint rows median %.0f max %.0f, SQP iterations median %.0f\n", quantile(rows, 0.5),
+              quantile(rows, 1.0), quantile(sqp, 0.5));
+  return {{"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
+          {"sqp_median", quantile(sqp, 0.5)}, {"linear", scene.solver.linear}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
           {"steps", steps}, {"warmup", warmup}, {"finite", world.state().x.allFinite()},
           {"stages", stages}};
 }
@@ -96,7 +108,7 @@ int main(int argc, char** argv) {
     else if (arg == "--linear") linear = next();
     else {
       std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--out FILE]\n"
-                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k\n");
+                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k, creature365\n");
       return arg == "--help" ? 0 : 2;
     }
   }

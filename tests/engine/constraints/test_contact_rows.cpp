@@ -39,20 +39,25 @@ std::vector<std::string> obstacles() {
   return all;
 }
 
-// A closed mesh obstacle: an icosahedron-like ellipsoid written to a temporary OBJ.
+// A closed mesh obstacle: an ellipsoid surface written to a temporary OBJ (removed at exit).
 std::string mesh_obstacle() {
-  static const std::string path = [] {
-    Shape shape;
-    Primitive p;
-    p.kind = PrimitiveKind::Ellipsoid;
-    p.size = Vec3(0.3, 0.15, 0.25);
-    shape.parts.push_back(p);
-    const std::string file = (std::filesystem::temp_directory_path() /
-                              ("sinew_contact_mesh_" + std::to_string(::getpid()) + ".obj")).string();
-    write_obj(file, mesh_shape_surface(shape, 0.05));
-    return file;
-  }();
-  return R"({"type": "mesh", "mesh": ")" + path + R"(", "center": [0.2, -0.25, 0.05], "rotation_deg": [0, 30, 0], "friction": 0.4})";
+  struct TempObj {
+    std::string path;
+    TempObj() {
+      Shape shape;
+      Primitive p;
+      p.kind = PrimitiveKind::Ellipsoid;
+      p.size = Vec3(0.3, 0.15, 0.25);
+      shape.parts.push_back(p);
+      path = (std::filesystem::temp_directory_path() / ("sinew_contact_mesh_" + std::to_string(::getpid()) + ".obj"))
+                 .string();
+      write_obj(path, mesh_shape_surface(shape, 0.05));
+    }
+    ~TempObj() { std::filesystem::remove(path); }
+  };
+  static const TempObj obj;
+  return R"({"type": "mesh", "mesh": ")" + obj.path +
+         R"(", "center": [0.2, -0.25, 0.05], "rotation_deg": [0, 30, 0], "friction": 0.4})";
 }
 
 // A 0.25 m sphere on 0.1 m cells, with one obstacle cutting into it.

@@ -384,7 +384,7 @@ TEST_CASE("scene parser: string and choice errors") {
 
   scene = minimal_scene();
   scene["obstacles"] = {{{"type", "cone"}}};
-  check_error(scene, "obstacles[0].type: expected one of \"plane\", \"box\", \"sphere\", \"capsule\", got \"cone\"");
+  check_error(scene, "obstacles[0].type: expected one of \"plane\", \"box\", \"sphere\", \"capsule\", \"mesh\", got \"cone\"");
 }
 
 TEST_CASE("scene parser: missing required keys") {
