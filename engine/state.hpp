@@ -28,7 +28,9 @@ struct State {
   SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
   std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from
                                      // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T
-  bool factor_curved = false;        // the solver holds H (true) or A (false)
+  bool factor_curved = false;        // the last factorisation included curvature
+  bool factor_exact = false;         // the solver holds exactly this step's A (solve)
+  int factor_age = 0;                // steps since the last factorisation (solve)
   std::vector<double> element_scratch;  // per element, scratch of assemble and constraints
   std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
   BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)

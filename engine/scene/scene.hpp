@@ -103,6 +103,10 @@ struct SolverDesc {
   int sqp_max_iterations = 10;
   double sqp_tolerance = 1e-3;     // worst Ue/Umax - 1 accepted
   double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further
+  // Factorise the system every this many steps (1: every step, as the paper). In between
+  // the last factorisation is reused: the SQP loop's Newton iterations still converge to
+  // the same tolerances, at a fraction of the cost while rotations change slowly.
+  int refactor_interval = 1;
   double activation_margin = 0.05; // rows for elements with Ue/Umax > 1 - margin (predicted)
   // Contact (engine/constraints/contact_rows.hpp).
   double contact_tolerance = 1e-4; // m, deepest penetration SQP accepts

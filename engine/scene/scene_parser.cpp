@@ -534,6 +534,8 @@ SolverDesc parse_solver(const Object& o) {
   o.number("pgs_tolerance", s.pgs_tolerance, kPositive);
   o.integer("sqp_max_iterations", s.sqp_max_iterations, kPositive);
   o.number("sqp_tolerance", s.sqp_tolerance, kPositive);
+  o.number("sqp_position_tolerance", s.sqp_position_tolerance, kPositive);
+  o.integer("refactor_interval", s.refactor_interval, kPositive);
   o.number("activation_margin", s.activation_margin, kFraction);
   o.number("contact_tolerance", s.contact_tolerance, kPositive);
   o.number("contact_margin", s.contact_margin, kNonNegative);
@@ -544,7 +546,8 @@ SolverDesc parse_solver(const Object& o) {
 const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_iterations",
                              "pgs_max_iterations", "pgs_tolerance", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
-                             "contact_margin", "body_friction"};
+                             "contact_margin", "body_friction", "sqp_position_tolerance",
+                             "refactor_interval"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",
                             "frames", "solver",  "bodies", "obstacles"};
 

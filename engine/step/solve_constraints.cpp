@@ -87,7 +87,8 @@ void update_curvature(const Model& model, State& s) {
 // by more than sqp_position_tolerance.
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
-  if (!has_constraints(model)) {
+  const bool constrained = has_constraints(model);
+  if (!constrained && s.factor_exact) {
     profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
     profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles and no energy limits";
     return;
@@ -105,10 +106,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   for (int k = 0;; ++k) {
     const double worst = [&] {
       StageTimer timer(profile, Stage::Rows);
+      if (!constrained) {
+        s.rows.clear();
+        return 0.0;
+      }
       return build_rows(model, s.t + h, k, x0 + h * s.v, s.v, keep, s.rows, s.body_surfaces, profile);
     }();
     const int m = s.rows.size();
-    if (k == 0 && !s.factor_curved && (m == 0 || worst <= 1)) break;
+    if (k == 0 && s.factor_exact && (m == 0 || worst <= 1)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) break;
     if (k == cfg.sqp_max_iterations) break;
     ++sqp;
@@ -120,6 +125,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       // Stalled: the stale curvature converges too slowly; refactorise with the current one.
       if (k >= 2 && last_move > 0.5 * previous_move) {
         if (!factorize_step_system(model, solver, s)) break;
+        s.factor_exact = !s.factor_curved;
         ++refactorisations;
       }
     }

@@ -11,6 +11,7 @@ namespace sinew {
 // serves every SQP iteration of the step (solve_constraints), so a step that keeps its
 // contacts and limits costs one factorisation, not one per iteration.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state) {
+  state.factor_age = 0;
   state.factor_curved = std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
   if (state.factor_curved) {
     state.sqp_system = state.system;
@@ -22,7 +23,14 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   {
     StageTimer timer(state.profile, Stage::Factorize);
-    if (!factorize_step_system(model, solver, state)) return false;
+    const bool reuse = state.step_count > 0 && ++state.factor_age < model.solver.refactor_interval;
+    if (reuse) {
+      state.factor_exact = false;
+      state.profile.skipped[static_cast<int>(Stage::Factorize)] = "reusing the factorisation of an earlier step";
+    } else {
+      if (!factorize_step_system(model, solver, state)) return false;
+      state.factor_exact = !state.factor_curved;
+    }
   }
   StageTimer timer(state.profile, Stage::Solve);
   VecX v0(3 * model.num_free);
