@@ -61,6 +61,51 @@ void add_vertex_row(RowTable& rows, RowKind kind, double value, double lo, doubl
   for (int n = 0; n < 8; ++n) rows.add_entry(body.node_offset + cell[n], w[n] * d);
 }
 
+// Which eighth of its cell a surface vertex sits in (by its rest position).
+int cell_octant(const Body& body, int vertex) {
+  const int cell = body.embedding.cell[vertex];
+  const auto& g = body.lattice.cell_coords[cell];
+  const Vec3 centre = body.lattice.origin + body.lattice.cell_size * Vec3(g[0] + 0.5, g[1] + 0.5, g[2] + 0.5);
+  const Vec3 d = body.rest_surface.vertices[vertex] - centre;
+  return (d.x() > 0) * 4 + (d.y() > 0) * 2 + (d.z() > 0);
+}
+
+// A contact site is an eighth of a lattice cell.
+uint32_t contact_site(const Body& body, int vertex) {
+  return static_cast<uint32_t>(8 * body.embedding.cell[vertex] + cell_octant(body, vertex));
+}
+
+// The probes that get rows: per site (cell, octant) the deepest vertex (ties: the lowest
+// index), plus every vertex whose row is kept (it carried force earlier in this step or
+// the last). The lattice cannot resolve contact finer than its cells' trilinear field:
+// a row per vertex only adds nearly dependent copies that cost a solve column each (and
+// slow PGS). When the deepest vertex of a site changes between SQP iterations, the new
+// one joins and the old one stays (kept), so the rows still converge.
+std::vector<Probe> representative_probes(const Body& body, const std::vector<Probe>& probes, uint32_t first_vertex,
+                                         uint32_t obstacle, const std::vector<uint64_t>& keep) {
+  std::vector<std::pair<uint32_t, int>> order;  // (site, probe index)
+  order.reserve(probes.size());
+  for (int i = 0; i < static_cast<int>(probes.size()); ++i) order.emplace_back(contact_site(body, probes[i].vertex), i);
+  std::sort(order.begin(), order.end());
+  std::vector<Probe> out;
+  for (size_t i = 0; i < order.size();) {
+    const Probe* best = &probes[order[i].second];
+    size_t j = i;
+    for (; j < order.size() && order[j].first == order[i].first; ++j) {
+      const Probe& p = probes[order[j].second];
+      if (p.sdf.phi < best->sdf.phi || (p.sdf.phi == best->sdf.phi && p.vertex < best->vertex)) best = &p;
+    }
+    for (size_t q = i; q < j; ++q) {
+      const Probe& p = probes[order[q].second];
+      if (&p == best || std::binary_search(keep.begin(), keep.end(), contact_key(first_vertex + p.vertex, obstacle)))
+        out.push_back(p);
+    }
+    i = j;
+  }
+  std::sort(out.begin(), out.end(), [](const Probe& a, const Probe& b) { return a.vertex < b.vertex; });
+  return out;
+}
+
 }  // namespace
 
 ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX& x, const VecX& v,
@@ -82,7 +127,7 @@ ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX&
       gather_candidates(x, body, near, search == ContactSearch::BruteForce, first_vertex, k, keep, candidates);
       evaluate_probes(x, v, body, ob, origin, candidates, search == ContactSearch::BruteForce, probes);
       result.candidates += static_cast<int>(probes.size());
-      for (const Probe& probe : probes) {
+      for (const Probe& probe : representative_probes(body, probes, first_vertex, k, keep)) {
         const uint32_t id = first_vertex + probe.vertex;
         const uint64_t key = contact_key(id, k);
         result.deepest = std::max(result.deepest, -probe.sdf.phi);
