@@ -2,6 +2,8 @@
 // options promise, and a missing ffmpeg or EGL is a clear error before anything runs.
 #include <doctest/doctest.h>
 
+#include "tests/support/cli_runner.hpp"
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -18,39 +20,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
-
-// `env_prefix` goes before the binary, e.g. "PATH=/x" (the shell sets it for sinew only).
-Result run_sinew(const std::string& args, const std::string& env_prefix = "") {
-  const std::string command = env_prefix + " " + std::string(SINEW_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe);
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("sinew_cli_record_" + name + "_" + std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string write(const std::string& file, const std::string& text) const {
-    std::ofstream(path / file) << text;
-    return (path / file).string();
-  }
-  std::string operator/(const std::string& file) const { return (path / file).string(); }
-};
+using Result = sinew::test::CliResult;
+using sinew::test::run_sinew;
+using sinew::test::TempDir;
 
 // A small box dropped onto a plane; 60 fps output.
 const char* kScene = R"({"fps": 60, "frames": 6,

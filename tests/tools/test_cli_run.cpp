@@ -2,6 +2,8 @@
 // path, a non-zero exit code, and no output files.
 #include <doctest/doctest.h>
 
+#include "tests/support/cli_runner.hpp"
+
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -14,37 +16,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
-
-Result run_sinew(const std::string& args) {
-  const std::string command = std::string(SINEW_BINARY) + " " + args + " 2>&1";
-  Result r;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe);
-  std::array<char, 4096> buffer;
-  size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) r.output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() / ("sinew_cli_" + name + "_" + std::to_string(getpid()))) {
-    fs::remove_all(path);
-    fs::create_directories(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string write(const std::string& file, const std::string& text) const {
-    std::ofstream(path / file) << text;
-    return (path / file).string();
-  }
-};
+using Result = sinew::test::CliResult;
+using sinew::test::run_sinew;
+using sinew::test::TempDir;
 
 const char* kGoodBody = R"("name": "b", "shape": [{"type": "box", "half_extents": [0.2, 0.1, 0.1]}], "cell_size": 0.1)";
 
