@@ -1,0 +1,21 @@
+#pragma once
+// Rotation-variant SVD of a 3x3 matrix (Irving et al. 2004; paper 003, sec. 4.2;
+// paper 001, sec. 3): F = U diag(S) V^T with det U = det V = +1. A reflection in F shows as
+// a negative smallest singular value, S(2), instead of a reflection in U or V.
+// S is sorted by absolute value, largest first. Always finite for finite F, including
+// repeated and zero singular values (Eigen's two-sided Jacobi SVD underneath).
+#include <Eigen/LU>
+
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+struct RotationVariantSvd {
+  Mat3 U;  // rotation
+  Vec3 S;  // |S(0)| >= |S(1)| >= |S(2)|; only S(2) may be negative
+  Mat3 V;  // rotation
+};
+
+RotationVariantSvd compute_rotation_variant_svd(const Mat3& F);
+
+}  // namespace sinew
