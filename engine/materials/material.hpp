@@ -1,0 +1,43 @@
+#pragma once
+// Hyperelastic materials (paper 003 and the family it compares against). Every material is a
+// small type with the same methods; elements (hex8 at 8 Gauss points, tet4 at one point) call
+// them with the deformation gradient F and never see the material's formulas.
+//
+// Conventions: Psi is energy per unit rest volume (J/m^3). Matrices are flattened column-major,
+// vec(F) = (F00, F10, F20, F01, ...), so Hessian(i, j) = d^2 Psi / d vec(F)_i d vec(F)_j.
+#include <memory>
+#include <string>
+
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+using Mat9 = Eigen::Matrix<double, 9, 9>;
+using Vec9 = Eigen::Matrix<double, 9, 1>;
+
+struct MaterialParameters {
+  double young = 0;    // E, Pa
+  double poisson = 0;  // nu
+  // Extensions of paper 003, sec. 7 (used only by their materials):
+  double fung_c = 1;           // Fung exponent scale (dimensionless)
+  double arruda_boyce_n = 8;   // Arruda-Boyce chain segments N (locking stretch sqrt(N))
+};
+
+class Material {
+ public:
+  virtual ~Material() = default;
+  virtual const char* name() const = 0;
+  virtual double energy(const Mat3& F) const = 0;          // Psi(F)
+  virtual Mat3 pk1(const Mat3& F) const = 0;               // P = dPsi/dF
+  virtual Mat9 hessian(const Mat3& F) const = 0;           // d^2 Psi / dF^2
+  virtual Mat9 projected_hessian(const Mat3& F) const = 0; // nearest PSD (eigenvalues clamped at 0)
+};
+
+// Names: "stable_neo_hookean", "neo_hookean", "corotational", "arap", "stvk", "fung",
+// "arruda_boyce". Throws std::invalid_argument for an unknown name (message lists the names).
+std::unique_ptr<Material> make_material(const std::string& name, const MaterialParameters& params);
+
+// The names make_material accepts, for error messages and --help.
+const std::vector<std::string>& material_names();
+
+}  // namespace sinew
