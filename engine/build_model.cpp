@@ -1,10 +1,15 @@
+#include <bitset>
 #include <cmath>
+#include <Eigen/LU>
 #include <map>
 #include <tuple>
 
 #include "engine/collision/mesh_sdf.hpp"
 #include "engine/core/error.hpp"
+#include "engine/geometry/gmsh_reader.hpp"
+#include "engine/geometry/lattice_tets.hpp"
 #include "engine/geometry/obj_reader.hpp"
+#include "engine/geometry/tetgen_reader.hpp"
 #include "engine/geometry/surface_mesher.hpp"
 #include "engine/model.hpp"
 
@@ -49,7 +54,111 @@ void build_geometry(const SceneDesc& scene, const BodyDesc& desc, Body& body,
                      "the lattice is empty: no cell of size " + std::to_string(desc.cell_size) +
                      " m overlaps the body; expected a cell size smaller than the body");
   body.embedding = embed_points(body.lattice, body.rest_surface.vertices);
-  body.surface_cells = group_surface_by_cell(body.embedding, body.num_elements());
+}
+
+// Barycentric weights of p in the tet (a, b, c, d).
+std::array<double, 4> barycentric(const std::array<Vec3, 4>& X, const Vec3& p) {
+  Mat3 D;
+  D << X[1] - X[0], X[2] - X[0], X[3] - X[0];
+  const Vec3 l = D.inverse() * (p - X[0]);
+  return {1 - l.sum(), l[0], l[1], l[2]};
+}
+
+// Stores tets in the body's mesh (slots 4-7 = -1) and a length scale for contact margins.
+void store_tets(const TetMesh& mesh, Body& body, double cell_size) {
+  body.element_type = ElementType::Tet4;
+  body.lattice.nodes = mesh.nodes;
+  body.lattice.cells.clear();
+  body.lattice.cell_coords.clear();
+  double edge_sum = 0;
+  for (const auto& t : mesh.tets) {
+    body.lattice.cells.push_back({t[0], t[1], t[2], t[3], -1, -1, -1, -1});
+    edge_sum += (mesh.nodes[t[1]] - mesh.nodes[t[0]]).norm();
+  }
+  body.lattice.cell_size = cell_size > 0 ? cell_size : edge_sum / std::max<size_t>(1, mesh.tets.size());
+}
+
+// A tet-mesh file: the boundary faces are the surface, each vertex carried by one node.
+void build_tet_mesh_geometry(const SceneDesc& scene, const BodyDesc& desc, Body& body) {
+  TetMesh mesh;
+  try {
+    const std::string& path = desc.tet_mesh_path;
+    mesh = (path.size() > 4 && path.substr(path.size() - 4) == ".msh" ? read_gmsh(path) : read_tetgen(path)).mesh;
+  } catch (const InputError& e) {
+    throw InputError(where(scene, desc.json_path + ".tet_mesh") + e.what());
+  }
+  for (Vec3& p : mesh.nodes) p = transform_point(desc, p);
+  store_tets(mesh, body, 0);
+  const TetSurface boundary = tet_boundary_surface(mesh);
+  body.rest_surface = boundary.mesh;
+  std::vector<int> tet_of_node(mesh.nodes.size(), -1), slot_of_node(mesh.nodes.size(), -1);
+  for (int t = static_cast<int>(mesh.tets.size()) - 1; t >= 0; --t)
+    for (int k = 0; k < 4; ++k) tet_of_node[mesh.tets[t][k]] = t, slot_of_node[mesh.tets[t][k]] = k;
+  for (size_t i = 0; i < boundary.mesh.vertices.size(); ++i) {
+    const int node = boundary.node_of_vertex[i];
+    std::array<double, 8> w{};
+    w[slot_of_node[node]] = 1;
+    body.embedding.cell.push_back(tet_of_node[node]);
+    body.embedding.weights.push_back(w);
+  }
+}
+
+// A voxel lattice split into tets; the embedded surface moves to barycentric weights in
+// the tet of its hex cell that holds it (or is nearest to holding it).
+void split_into_tets(Body& body) {
+  const LatticeTets split = split_lattice_into_tets(body.lattice);
+  std::vector<std::vector<int>> tets_of_cell(body.lattice.cells.size());
+  for (size_t t = 0; t < split.tet_cell.size(); ++t) tets_of_cell[split.tet_cell[t]].push_back(static_cast<int>(t));
+  Embedding embedding;
+  for (size_t i = 0; i < body.rest_surface.vertices.size(); ++i) {
+    const Vec3& p = body.rest_surface.vertices[i];
+    int best = -1;
+    std::array<double, 4> best_w{};
+    for (int t : tets_of_cell[body.embedding.cell[i]]) {
+      const auto& tet = split.mesh.tets[t];
+      const auto w = barycentric({split.mesh.nodes[tet[0]], split.mesh.nodes[tet[1]], split.mesh.nodes[tet[2]],
+                                  split.mesh.nodes[tet[3]]}, p);
+      if (best < 0 || *std::min_element(w.begin(), w.end()) > *std::min_element(best_w.begin(), best_w.end()))
+        best = t, best_w = w;
+    }
+    std::array<double, 8> w{};
+    std::copy(best_w.begin(), best_w.end(), w.begin());
+    embedding.cell.push_back(best);
+    embedding.weights.push_back(w);
+  }
+  store_tets(split.mesh, body, body.lattice.cell_size);
+  body.embedding = std::move(embedding);
+}
+
+// Greedy colouring of elements so that no two of a colour share a node (deterministic:
+// elements in order, each takes the lowest colour free at all its nodes).
+std::vector<std::vector<int>> color_elements(const std::vector<std::array<int, 8>>& cells, int num_nodes, int first) {
+  constexpr int kMaxColors = 256;
+  std::vector<std::bitset<kMaxColors>> used(num_nodes);
+  std::vector<std::vector<int>> colors;
+  for (size_t c = 0; c < cells.size(); ++c) {
+    std::bitset<kMaxColors> taken;
+    for (int n : cells[c])
+      if (n >= 0) taken |= used[n];
+    int k = 0;
+    while (k < kMaxColors && taken[k]) ++k;
+    if (k == kMaxColors) throw std::runtime_error("element colouring: a node is shared by too many elements");
+    for (int n : cells[c])
+      if (n >= 0) used[n].set(k);
+    if (k >= static_cast<int>(colors.size())) colors.resize(k + 1);
+    colors[k].push_back(first + static_cast<int>(c));
+  }
+  return colors;
+}
+
+std::shared_ptr<const Material> hyperelastic_material(const MaterialDesc& m) {
+  if (!m.hyperelastic()) return nullptr;
+  MaterialParameters params;
+  params.young = m.E;
+  params.poisson = m.nu;
+  params.fung_c = m.fung_c;
+  params.arruda_boyce_n = m.arruda_boyce_n;
+  return make_material(m.model == "corotational_hyperelastic" ? "corotational" : m.model, params);
 }
 
 double element_energy_limit(const BodyDesc& desc, const Vec3& rest_centre) {
@@ -81,18 +190,19 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
     body.damping_mass = desc.damping_mass;
     body.damping_stiffness = desc.damping_stiffness;
     body.energy_limit = desc.energy_limit;
-    build_geometry(scene, desc, body, warn);
+    body.strain_limit = desc.strain_limit;
+    body.hyperelastic = hyperelastic_material(desc.material);
+    if (!desc.tet_mesh_path.empty()) {
+      build_tet_mesh_geometry(scene, desc, body);
+    } else {
+      build_geometry(scene, desc, body, warn);
+      if (desc.elements == "tet") split_into_tets(body);
+    }
+    body.surface_cells = group_surface_by_cell(body.embedding, body.num_elements());
+    const IsotropicElasticity elasticity = IsotropicElasticity::from_young_poisson(desc.material.E, desc.material.nu);
     body.node_offset = model.num_nodes;
     body.element_offset = model.num_elements;
 
-    const auto key = std::make_tuple(desc.cell_size, desc.material.E, desc.material.nu);
-    auto [it, inserted] = reference_of.emplace(key, static_cast<int>(model.references.size()));
-    if (inserted)
-      model.references.push_back(compute_hex8_reference(
-          desc.cell_size, IsotropicElasticity::from_young_poisson(desc.material.E, desc.material.nu)));
-
-    // Lumped mass: each cell's rho c^3 split equally over its 8 nodes.
-    const double node_share = desc.material.rho * std::pow(body.lattice.cell_size, 3) / 8;
     const int b = static_cast<int>(model.bodies.size());
     for (const Vec3& p : body.lattice.nodes) {
       rest.push_back(p);
@@ -104,26 +214,72 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
     model.node_mass.conservativeResize(model.num_nodes + body.num_nodes());
     model.node_mass.tail(body.num_nodes()).setZero();
 
-    std::vector<std::vector<int>> colors(8);
+    int reference = -1;
+    if (body.element_type == ElementType::Hex8) {
+      const auto key = std::make_tuple(desc.cell_size, desc.material.E, desc.material.nu);
+      auto [it, inserted] = reference_of.emplace(key, static_cast<int>(model.references.size()));
+      if (inserted) model.references.push_back(compute_hex8_reference(desc.cell_size, elasticity));
+      reference = it->second;
+    }
     for (int c = 0; c < body.num_elements(); ++c) {
       std::array<int, 8> nodes = body.lattice.cells[c];
+      const int count = body.element_type == ElementType::Hex8 ? 8 : 4;
+      std::array<Vec3, 4> X;
       Vec3 centre = Vec3::Zero();
-      for (int& n : nodes) {
-        centre += body.lattice.nodes[n] / 8;
-        model.node_mass[model.num_nodes + n] += node_share;
-        n += model.num_nodes;
+      for (int a = 0; a < count; ++a) {
+        centre += body.lattice.nodes[nodes[a]] / count;
+        if (a < 4) X[a] = body.lattice.nodes[nodes[a]];
       }
-      const int e = model.num_elements + c;
+      // Lumped mass: the element's rho V split equally over its nodes.
+      double volume = std::pow(body.lattice.cell_size, 3);
+      if (body.element_type == ElementType::Tet4) {
+        try {
+          model.tet_references.push_back(compute_tet4_reference(X, elasticity));
+        } catch (const std::invalid_argument& e) {
+          throw InputError(where(scene, desc.json_path) + "element " + std::to_string(c) + " is degenerate: " + e.what());
+        }
+        Mat83 padded = Mat83::Zero();
+        padded.topRows<4>() = model.tet_references.back().dN_dX;
+        model.tet_gradients.push_back(padded);
+        volume = model.tet_references.back().volume;
+        reference = static_cast<int>(model.tet_references.size()) - 1;
+      }
+      for (int a = 0; a < count; ++a) {
+        model.node_mass[model.num_nodes + nodes[a]] += desc.material.rho * volume / count;
+        nodes[a] += model.num_nodes;
+      }
       model.element_nodes.push_back(nodes);
+      model.element_type.push_back(body.element_type);
       model.element_body.push_back(b);
-      model.element_reference.push_back(it->second);
+      model.element_reference.push_back(reference);
       model.element_Umax.push_back(element_energy_limit(desc, centre));
-      const auto& g = body.lattice.cell_coords[c];
-      colors[(g[0] & 1) + 2 * (g[1] & 1) + 4 * (g[2] & 1)].push_back(e);
     }
-    model.element_colors.resize(8);
-    for (int k = 0; k < 8; ++k)
+    // Colours: the lattice's 8 parity classes for hexes, greedy for tets.
+    std::vector<std::vector<int>> colors(8);
+    if (body.element_type == ElementType::Hex8) {
+      for (int c = 0; c < body.num_elements(); ++c) {
+        const auto& g = body.lattice.cell_coords[c];
+        colors[(g[0] & 1) + 2 * (g[1] & 1) + 4 * (g[2] & 1)].push_back(model.num_elements + c);
+      }
+    } else {
+      colors = color_elements(body.lattice.cells, body.num_nodes(), model.num_elements);
+    }
+    if (model.element_colors.size() < colors.size()) model.element_colors.resize(colors.size());
+    for (size_t k = 0; k < colors.size(); ++k)
       model.element_colors[k].insert(model.element_colors[k].end(), colors[k].begin(), colors[k].end());
+    for (size_t l = 0; l < desc.loads.size(); ++l) {
+      NodeLoad load;
+      load.ramp_time = desc.loads[l].ramp_time;
+      for (int n = 0; n < body.num_nodes(); ++n)
+        if (desc.loads[l].region.contains(body.lattice.nodes[n])) load.nodes.push_back(model.num_nodes + n);
+      if (load.nodes.empty())
+        throw InputError(where(scene, desc.json_path + ".loads[" + std::to_string(l) + "]") +
+                         "the region holds no node of the body; expected a region that overlaps it");
+      load.node_force = desc.loads[l].force / static_cast<double>(load.nodes.size());
+      model.loads.push_back(load);
+    }
+    model.has_hyperelastic = model.has_hyperelastic || body.hyperelastic;
+    model.has_strain_limits = model.has_strain_limits || body.strain_limit.enabled;
 
     model.num_nodes += body.num_nodes();
     model.num_elements += body.num_elements();

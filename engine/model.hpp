@@ -2,21 +2,30 @@
 // The constant part of a simulation: everything that does not change during a run.
 // Built once from a SceneDesc by build_model(); read by every stage of World::step().
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/collision/surface_cells.hpp"
 #include "engine/fem/hex8.hpp"
+#include "engine/fem/tet4.hpp"
+#include "engine/materials/material.hpp"
 #include "engine/geometry/embedding.hpp"
 #include "engine/geometry/hex_lattice.hpp"
 #include "engine/scene/scene.hpp"
 
 namespace sinew {
 
+enum class ElementType { Hex8, Tet4 };
+
 struct Body {
   std::string name;
-  HexLattice lattice;          // rest lattice, world coordinates
+  ElementType element_type = ElementType::Hex8;
+  // The simulation mesh at rest, world coordinates. Hex bodies: the voxel lattice. Tet
+  // bodies: the tets in `cells` (nodes 0-3, the rest -1), `cell_coords` empty and
+  // `cell_size` the lattice's (a lattice split into tets) or 0 (a tet mesh file).
+  HexLattice lattice;
   int node_offset = 0;         // first global node
   int element_offset = 0;      // first global element
   TriMesh rest_surface;        // embedded surface at rest (renders and collides)
@@ -26,17 +35,29 @@ struct Body {
   double damping_mass = 0;     // Rayleigh alpha
   double damping_stiffness = 0;  // Rayleigh beta
   EnergyLimitDesc energy_limit;
+  StrainLimitDesc strain_limit;
+  std::shared_ptr<const Material> hyperelastic;  // null: linear corotational (warped stiffness)
   int num_nodes() const { return static_cast<int>(lattice.nodes.size()); }
   int num_elements() const { return static_cast<int>(lattice.cells.size()); }
+};
+
+// A scene load on nodes (LoadDesc): per-node force, ramped in over ramp_time.
+struct NodeLoad {
+  std::vector<int> nodes;  // global
+  Vec3 node_force = Vec3::Zero();
+  double ramp_time = 0;
 };
 
 struct Model {
   std::string scene_name;
   std::vector<Body> bodies;
-  std::vector<Hex8Reference> references;       // one per (cell size, material)
+  std::vector<Hex8Reference> references;       // hex8: one per (cell size, material)
+  std::vector<Tet4Reference> tet_references;   // tet4: one per element
+  std::vector<Mat83> tet_gradients;            // tet4: dN/dX padded to 8 rows (hyperelastic path)
   std::vector<ObstacleDesc> obstacles;
   SolverDesc solver;
   Vec3 gravity = Vec3::Zero();
+  std::vector<NodeLoad> loads;
   double h = 1.0 / 60.0;
 
   int num_nodes = 0;
@@ -47,9 +68,13 @@ struct Model {
   int num_free = 0;
 
   int num_elements = 0;
-  std::vector<std::array<int, 8>> element_nodes;  // global node indices, paper order
+  // Global node indices, paper order; a tet uses the first 4 and holds -1 in the rest.
+  std::vector<std::array<int, 8>> element_nodes;
+  std::vector<ElementType> element_type;
   std::vector<int> element_body;
-  std::vector<int> element_reference;          // index into references
+  std::vector<int> element_reference;          // into references (hex8) or tet_references (tet4)
+  bool has_hyperelastic = false;               // some body is solved by Newton (solve_newton)
+  bool has_strain_limits = false;
   std::vector<double> element_Umax;            // energy limit, 0 when the element has none
   // Elements split into colours that share no node, so that each colour can be
   // scattered in parallel without locks and in a fixed order (deterministic sums).

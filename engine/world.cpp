@@ -38,7 +38,7 @@ bool World::step() {
     StageTimer timer(s.profile, Stage::Assemble);
     assemble_system(m_model, s);
   }
-  bool ok = solve_velocity(m_model, m_solver, s);
+  bool ok = m_model.has_hyperelastic ? solve_newton(m_model, m_solver, s) : solve_velocity(m_model, m_solver, s);
   if (ok) solve_constraints(m_model, m_solver, s);  // times its own sub-stages
   if (ok) {
     StageTimer timer(s.profile, Stage::Integrate);

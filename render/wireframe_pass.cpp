@@ -19,7 +19,12 @@ void main() { color = tint; })";
 std::vector<std::array<int, 2>> lattice_edges(const Model& model) {
   std::vector<std::array<int, 2>> edges;
   edges.reserve(12 * model.element_nodes.size());
-  for (const auto& nodes : model.element_nodes)
+  for (const auto& nodes : model.element_nodes) {
+    if (nodes[4] < 0) {  // a tet: all six pairs of its four nodes
+      for (int i = 0; i < 4; ++i)
+        for (int j = i + 1; j < 4; ++j) edges.push_back({std::min(nodes[i], nodes[j]), std::max(nodes[i], nodes[j])});
+      continue;
+    }
     // Paper order: local node 4a + 2b + c sits at (a, b, c); an edge flips one of the bits.
     for (int local = 0; local < 8; ++local)
       for (int bit : {1, 2, 4})
@@ -27,6 +32,7 @@ std::vector<std::array<int, 2>> lattice_edges(const Model& model) {
           const int a = nodes[local], b = nodes[local | bit];
           edges.push_back({std::min(a, b), std::max(a, b)});
         }
+  }
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   return edges;

@@ -8,6 +8,7 @@
 #include "engine/core/error.hpp"
 #include "tools/cli_commands.hpp"
 #include "tools/cli_options.hpp"
+#include "tools/cli_profile.hpp"
 
 namespace {
 
@@ -18,6 +19,7 @@ const char* kHelp =
     "\n"
     "commands:\n"
     "  run SCENE      simulate a scene headless; progress, per-stage timings, exports\n"
+    "  profile STATS  per-stage median/p95/p99/max of a run's --stats file; CSV, PNG chart\n"
     "  help           this text\n"
     "\n"
     "Run `sinew COMMAND --help` for the options of a command. Scenes: docs/scenes.md.\n"
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
   const std::string command = argv[1];
   try {
     if (command == "run") return sinew::cli::run_command(argc - 2, argv + 2);
+    if (command == "profile") return sinew::cli::profile_command(argc - 2, argv + 2);
     std::fprintf(stderr, "sinew: unknown command '%s' (see sinew --help)\n", command.c_str());
     return 2;
   } catch (const sinew::cli::UsageError& e) {

@@ -2,7 +2,21 @@
 
 #include <tbb/parallel_for.h>
 
+#include "engine/assembly/element_kernels.hpp"
+
 namespace sinew {
+
+void scatter_element_matrix(const Model& model, int e, const Mat24& K, double coeff, double* values) {
+  const auto& scatter = model.pattern.element_scatter[e];
+  for (int ab = 0; ab < 64; ++ab) {
+    if (scatter[3 * ab] < 0) continue;  // a fixed node, or a tet's unused slot
+    const int a = ab / 8, b = ab % 8;
+    for (int d = 0; d < 3; ++d) {
+      double* column = values + scatter[3 * ab + d];
+      for (int r = 0; r < 3; ++r) column[r] += coeff * K(3 * a + r, 3 * b + d);
+    }
+  }
+}
 
 void scatter_warped_stiffness(const Model& model, const std::vector<Mat3>& R,
                               const std::vector<double>& coeff, double* values) {
@@ -12,16 +26,8 @@ void scatter_warped_stiffness(const Model& model, const std::vector<Mat3>& R,
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const int e = color[i];
         if (coeff[e] == 0) continue;
-        hex8_warped_stiffness(model.references[model.element_reference[e]], R[e], K);
-        const auto& scatter = model.pattern.element_scatter[e];
-        for (int ab = 0; ab < 64; ++ab) {
-          if (scatter[3 * ab] < 0) continue;
-          const int a = ab / 8, b = ab % 8;
-          for (int d = 0; d < 3; ++d) {
-            double* column = values + scatter[3 * ab + d];
-            for (int r = 0; r < 3; ++r) column[r] += coeff[e] * K(3 * a + r, 3 * b + d);
-          }
-        }
+        element_warped_stiffness(model, e, R[e], K);
+        scatter_element_matrix(model, e, K, coeff[e], values);
       }
     });
   }

@@ -11,6 +11,7 @@ SystemPattern build_system_pattern(const std::vector<std::array<int, 8>>& elemen
   for (const auto& nodes : element_nodes)
     for (int a : nodes)
       for (int b : nodes) {
+        if (a < 0 || b < 0) continue;  // a tet's unused slots
         const int fa = free_index[a], fb = free_index[b];
         if (fa >= 0 && fb >= 0) neighbours[fb].push_back(fa);
       }
@@ -48,7 +49,8 @@ SystemPattern build_system_pattern(const std::vector<std::array<int, 8>>& elemen
     for (int a = 0; a < 8; ++a)
       for (int b = 0; b < 8; ++b)
         for (int d = 0; d < 3; ++d) {
-          const int fa = free_index[element_nodes[e][a]], fb = free_index[element_nodes[e][b]];
+          const int na = element_nodes[e][a], nb = element_nodes[e][b];
+          const int fa = na < 0 ? -1 : free_index[na], fb = nb < 0 ? -1 : free_index[nb];
           scatter[(8 * a + b) * 3 + d] = (fa >= 0 && fb >= 0) ? position(fa, fb, d) : -1;
         }
   }

@@ -16,7 +16,7 @@ using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 struct SystemPattern {
   SparseMatrix matrix;  // pattern with zero values; copied into the state's working matrix
   // Per element, per local pair (a, b) (64 pairs, a-major), per column d of the block:
-  // position in values of row 3*free(a)+0 of column 3*free(b)+d; -1 if a or b is fixed.
+  // position in values of row 3*free(a)+0 of column 3*free(b)+d; -1 if a or b is fixed or absent (a tet's slots 4-7).
   std::vector<std::array<int, 64 * 3>> element_scatter;
   std::vector<int> diagonal;  // per free DOF: position of its diagonal entry
 };

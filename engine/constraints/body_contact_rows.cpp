@@ -46,13 +46,14 @@ void build_stencil(const Body& a, int vertex, const Body& b, const MeshSdf& surf
                    const Vec3& direction, RowStencil& stencil) {
   stencil.clear();
   const auto& cell = a.lattice.cells[a.embedding.cell[vertex]];
-  for (int n = 0; n < 8; ++n) stencil.add(a.node_offset + cell[n], a.embedding.weights[vertex][n] * direction);
+  for (int n = 0; n < 8; ++n)
+    if (cell[n] >= 0) stencil.add(a.node_offset + cell[n], a.embedding.weights[vertex][n] * direction);
   const auto& tri = surface.triangles()[d.triangle];
   for (int k = 0; k < 3; ++k) {
     const int q = tri[k];
     const auto& qcell = b.lattice.cells[b.embedding.cell[q]];
     for (int m = 0; m < 8; ++m)
-      stencil.add(b.node_offset + qcell[m], -d.bary[k] * b.embedding.weights[q][m] * direction);
+      if (qcell[m] >= 0) stencil.add(b.node_offset + qcell[m], -d.bary[k] * b.embedding.weights[q][m] * direction);
   }
 }
 

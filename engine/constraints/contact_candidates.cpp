@@ -29,7 +29,8 @@ Aabb body_surface_bounds(const VecX& x, const Body& body) {
 
 Aabb cell_surface_bounds(const VecX& x, const Body& body, int cell) {
   Aabb box;
-  for (int n : body.lattice.cells[cell]) box.extend(x.segment<3>(3 * (body.node_offset + n)));
+  for (int n : body.lattice.cells[cell])
+    if (n >= 0) box.extend(x.segment<3>(3 * (body.node_offset + n)));
   return grow_by_spread(box, body.surface_cells.spread[cell]);
 }
 
@@ -61,6 +62,7 @@ void embedded_point(const Body& body, int i, const VecX& x, const VecX& v, Vec3&
   p.setZero();
   vp.setZero();
   for (int n = 0; n < 8; ++n) {
+    if (cell[n] < 0) continue;
     const Eigen::Index at = 3 * (Eigen::Index(body.node_offset) + cell[n]);
     p += w[n] * x.segment<3>(at);
     vp += w[n] * v.segment<3>(at);

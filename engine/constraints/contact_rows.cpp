@@ -58,12 +58,19 @@ void add_vertex_row(RowTable& rows, RowKind kind, double value, double lo, doubl
   rows.add_row(kind, value, lo, hi, key);
   const auto& cell = body.lattice.cells[body.embedding.cell[vertex]];
   const auto& w = body.embedding.weights[vertex];
-  for (int n = 0; n < 8; ++n) rows.add_entry(body.node_offset + cell[n], w[n] * d);
+  for (int n = 0; n < 8; ++n)
+    if (cell[n] >= 0) rows.add_entry(body.node_offset + cell[n], w[n] * d);
 }
 
 // Which eighth of its cell a surface vertex sits in (by its rest position).
+// Tet bodies: the tet's node with the largest weight instead (a vertex on a node of a tet
+// mesh is then a site of its own).
 int cell_octant(const Body& body, int vertex) {
   const int cell = body.embedding.cell[vertex];
+  if (body.element_type == ElementType::Tet4) {
+    const auto& w = body.embedding.weights[vertex];
+    return static_cast<int>(std::max_element(w.begin(), w.begin() + 4) - w.begin());
+  }
   const auto& g = body.lattice.cell_coords[cell];
   const Vec3 centre = body.lattice.origin + body.lattice.cell_size * Vec3(g[0] + 0.5, g[1] + 0.5, g[2] + 0.5);
   const Vec3 d = body.rest_surface.vertices[vertex] - centre;

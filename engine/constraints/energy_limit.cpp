@@ -5,13 +5,13 @@
 #include <algorithm>
 
 #include "engine/analysis/element_fields.hpp"
+#include "engine/assembly/element_kernels.hpp"
 
 namespace sinew {
 
-EnergyLimitEval evaluate_energy_limit(const Hex8Reference& ref, const Mat3& R, const Vec24& u,
+EnergyLimitEval evaluate_energy_limit(const Vec24& Ku, const Mat3& R, const Vec24& u,
                                       double Umax, EnergyJacobian mode) {
   EnergyLimitEval out;
-  const Vec24 Ku = ref.Ke * u;
   const double Ue = u.dot(Ku);
   out.ratio = Ue / Umax;
   out.value = 1 - out.ratio;
@@ -32,8 +32,7 @@ std::vector<double> energy_ratios(const Model& model, const VecX& x) {
   std::vector<double> ratio(model.num_elements, 0.0);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (model.element_Umax[e] <= 0) return;
-    const Hex8Reference& ref = model.references[model.element_reference[e]];
-    ratio[e] = hex8_limit_energy(ref, element_corotated_displacement(model, x, e)) / model.element_Umax[e];
+    ratio[e] = element_limit_energy(model, e, element_corotated_displacement(model, x, e)) / model.element_Umax[e];
   });
   return ratio;
 }
@@ -56,14 +55,15 @@ double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
     if (ratio[e] <= 1 - margin && std::find(keep.begin(), keep.end(), key) == keep.end()) continue;
     Mat3 R;
     const Vec24 u = element_corotated_displacement(model, x, e, &R);
-    const EnergyLimitEval eval = evaluate_energy_limit(model.references[model.element_reference[e]], R, u,
+    const EnergyLimitEval eval = evaluate_energy_limit(element_stiffness_times(model, e, u), R, u,
                                                        model.element_Umax[e], jacobian_mode(model, e));
     const int row = rows.add_row(RowKind::Energy, eval.value, 0.0, 1e300, key);
     // C = 1 - u^T Ke u / Umax: -d2C/dx2 = (2 / Umax) R Ke R^T (exact), half that for the
     // warped Jacobian, whose constraint is 1 - 1/2 u^T Ke u / Umax up to a constant.
     rows.element[row] = e;
     rows.curvature[row] = (jacobian_mode(model, e) == EnergyJacobian::Exact ? 2.0 : 1.0) / model.element_Umax[e];
-    for (int n = 0; n < 8; ++n) rows.add_entry(model.element_nodes[e][n], eval.jac.segment<3>(3 * n));
+    for (int n = 0; n < element_node_count(model, e); ++n)
+      rows.add_entry(model.element_nodes[e][n], eval.jac.segment<3>(3 * n));
   }
   return worst_of(model, ratio);
 }

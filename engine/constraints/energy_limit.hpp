@@ -23,7 +23,8 @@ struct EnergyLimitEval {
   Vec24 jac;          // dC/dx over the 8 nodes (node-major)
 };
 
-EnergyLimitEval evaluate_energy_limit(const Hex8Reference& ref, const Mat3& R, const Vec24& u,
+// Ku = Ke u of the element (hex8 or tet4, padded to 24 entries: element_kernels.hpp).
+EnergyLimitEval evaluate_energy_limit(const Vec24& Ku, const Mat3& R, const Vec24& u,
                                       double Umax, EnergyJacobian mode);
 
 // Adds a row for every limited element whose Ue/Umax exceeds 1 - margin at x, or whose key

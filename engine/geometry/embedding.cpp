@@ -137,7 +137,8 @@ void compute_embedded_positions(const Embedding& embedding, const HexLattice& la
       const auto& cell = lattice.cells[embedding.cell[i]];
       const auto& w = embedding.weights[i];
       Vec3 sum = Vec3::Zero();
-      for (int k = 0; k < 8; ++k) sum += w[k] * x.segment<3>(3 * (Eigen::Index(node_offset) + cell[k]));
+      for (int k = 0; k < 8; ++k)
+        if (cell[k] >= 0) sum += w[k] * x.segment<3>(3 * (Eigen::Index(node_offset) + cell[k]));
       out[i] = sum;
     }
   });

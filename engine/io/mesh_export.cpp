@@ -85,9 +85,11 @@ void write_vtu(const std::string& path, const std::vector<Vec3>& points,
                const std::map<std::string, std::vector<double>>& cell_fields) {
   check_points(path, points);
   const int n = static_cast<int>(points.size());
+  // A cell with -1 in slots 4-7 is a tetrahedron (VTK type 10), else a hexahedron (12).
+  const auto is_tet = [](const std::array<int, 8>& cell) { return cell[4] < 0; };
   for (size_t c = 0; c < cells.size(); ++c)
-    for (int v : cells[c])
-      if (v < 0 || v >= n) reject(path, "cell " + std::to_string(c) + " has node index out of range");
+    for (int k = 0; k < (is_tet(cells[c]) ? 4 : 8); ++k)
+      if (cells[c][k] < 0 || cells[c][k] >= n) reject(path, "cell " + std::to_string(c) + " has node index out of range");
   for (const auto& [name, values] : cell_fields) {
     if (name.empty()) reject(path, "cell field with empty name");
     if (values.size() != cells.size())
@@ -119,15 +121,19 @@ void write_vtu(const std::string& path, const std::vector<Vec3>& points,
            "        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
     for (const auto& cell : cells) {
       out << "         ";
-      for (int k = 0; k < 8; ++k) out << ' ' << cell[kVtkToPaper[k]];
+      if (is_tet(cell))
+        for (int k = 0; k < 4; ++k) out << ' ' << cell[k];
+      else
+        for (int k = 0; k < 8; ++k) out << ' ' << cell[kVtkToPaper[k]];
       out << '\n';
     }
     out << "        </DataArray>\n"
            "        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
-    for (size_t c = 0; c < cells.size(); ++c) out << "          " << 8 * (c + 1) << '\n';
+    long offset = 0;
+    for (const auto& cell : cells) out << "          " << (offset += is_tet(cell) ? 4 : 8) << '\n';
     out << "        </DataArray>\n"
            "        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
-    for (size_t c = 0; c < cells.size(); ++c) out << "          12\n";
+    for (const auto& cell : cells) out << (is_tet(cell) ? "          10\n" : "          12\n");
     out << "        </DataArray>\n"
            "      </Cells>\n"
            "      <CellData>\n";

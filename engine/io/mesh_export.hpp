@@ -10,7 +10,8 @@ namespace sinew {
 
 void write_obj(const std::string& path, const TriMesh& mesh);
 
-// Hexahedra (VTK_HEXAHEDRON = 12). `cells` are in paper order; the writer reorders to VTK's.
+// Hexahedra (VTK_HEXAHEDRON = 12) in paper order, reordered to VTK's; cells with -1 in slots
+// 4-7 are tetrahedra (VTK_TETRA = 10).
 // Throws if any position or field value is not finite (nothing is written then).
 void write_vtu(const std::string& path, const std::vector<Vec3>& points,
                const std::vector<std::array<int, 8>>& cells,

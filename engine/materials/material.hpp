@@ -23,10 +23,24 @@ struct MaterialParameters {
   double arruda_boyce_n = 8;   // Arruda-Boyce chain segments N (locking stretch sqrt(N))
 };
 
+// Lame parameters of linear elasticity from (E, nu): mu_L = E / (2 (1 + nu)),
+// lambda_L = E nu / ((1 + nu)(1 - 2 nu)). Every material maps these to its own constants so that
+// its linearisation at F = I is Hooke's law (except ARAP, which has no volume term).
+struct LameParameters {
+  double mu = 0;
+  double lambda = 0;
+};
+// Throws std::invalid_argument unless E > 0 and -1 < nu < 1/2.
+LameParameters lame_parameters(const MaterialParameters& params);
+
 class Material {
  public:
   virtual ~Material() = default;
   virtual const char* name() const = 0;
+  // False where the energy is undefined (classic Neo-Hookean with J <= 0). There energy()
+  // returns +infinity and pk1()/hessian() stay finite but are no longer its derivatives (see the
+  // material's header). Every other material is defined for every finite F.
+  virtual bool is_defined(const Mat3& /*F*/) const { return true; }
   virtual double energy(const Mat3& F) const = 0;          // Psi(F)
   virtual Mat3 pk1(const Mat3& F) const = 0;               // P = dPsi/dF
   virtual Mat9 hessian(const Mat3& F) const = 0;           // d^2 Psi / dF^2

@@ -1,6 +1,7 @@
 #pragma once
 // A scene as read from JSON (SI units). Schema: docs/scenes.md. Parsing validates
 // everything it can without building the simulation; errors name the file and JSON path.
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,11 +19,29 @@ struct RegionDesc {
   bool contains(const Vec3& p) const;
 };
 
+// "corotational" is the linear corotational element of papers 000 and 001 (warped
+// stiffness, one linear solve per step). Every other model is a hyperelastic energy of
+// engine/materials/ solved by Newton's method on the incremental potential (paper 003).
 struct MaterialDesc {
-  std::string model = "corotational";  // only the linear corotational model for now
+  std::string model = "corotational";
   double E = 0;                        // Young's modulus, Pa, > 0
   double nu = 0;                       // Poisson's ratio, [0, 0.5)
   double rho = 0;                      // density, kg/m^3, > 0
+  double fung_c = 1;                   // "fung" only: exponent scale, > 0
+  double arruda_boyce_n = 8;           // "arruda_boyce" only: chain segments N, > 1
+  bool hyperelastic() const { return model != "corotational"; }
+};
+// Scene model name -> engine/materials name ("corotational_hyperelastic" -> "corotational").
+const std::vector<std::string>& material_model_names();
+
+// Strain limits (paper 001, section 3) on the singular values of F, per material axis j:
+// smin_j <= stretch along j <= smax_j. An axis without limits has smin 0 and smax +inf.
+struct StrainLimitDesc {
+  bool enabled = false;
+  Vec3 smin = Vec3::Zero();
+  Vec3 smax = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Mat3 frame = Mat3::Identity();     // columns: the material axes in rest (world) coordinates
+  std::string mode = "hyperbolic";   // "hyperbolic", "orthogonal", "linear" or "isotropic"
 };
 
 // Energy limit (paper 000, eq. 14), per body with per-region overrides.
@@ -37,6 +56,14 @@ struct EnergyLimitDesc {
   std::string jacobian = "exact";  // "exact" (eqs. 15-18) or "warped" (f_e / Umax)
 };
 
+// A force on a region of a body: `force` (N, total) split equally over the nodes of the
+// region, ramped linearly from 0 over `ramp_time` seconds, then held.
+struct LoadDesc {
+  RegionDesc region;
+  Vec3 force = Vec3::Zero();
+  double ramp_time = 0;
+};
+
 struct BodyDesc {
   std::string json_path;   // e.g. "bodies[0]", for later error messages
   std::string name;
@@ -44,6 +71,10 @@ struct BodyDesc {
   // resolved against the scene file's folder).
   Shape shape;
   std::string mesh_path;
+  std::string tet_mesh_path;       // or a tet mesh (TetGen .node/.ele or Gmsh .msh): a tet body
+  // Elements of a shape or OBJ body: "hex" (the lattice cells) or "tet" (each cell split
+  // into tets, engine/geometry/lattice_tets.hpp). A tet_mesh body is always "tet".
+  std::string elements = "hex";
   // Applied to the mesh or to the shape's primitives: x_world = translate + rotate * (scale * x).
   double scale = 1;
   Mat3 rotate = Mat3::Identity();
@@ -56,6 +87,8 @@ struct BodyDesc {
   std::vector<RegionDesc> fixed;
   Vec3 velocity = Vec3::Zero();    // initial, m/s
   EnergyLimitDesc energy_limit;
+  StrainLimitDesc strain_limit;    // tet bodies only
+  std::vector<LoadDesc> loads;
 };
 
 // Scripted motion of a kinematic obstacle: a pure translation of its reference point (the
@@ -112,6 +145,11 @@ struct SolverDesc {
   double contact_tolerance = 1e-4; // m, deepest penetration SQP accepts
   double contact_margin = -1;      // m, rows for vertices nearer than this; < 0: a quarter of the body's cell size
   double body_friction = 0.5;      // Coulomb mu between two bodies
+  double strain_tolerance = 1e-3;  // worst strain-limit violation (stretch) SQP accepts
+  double strain_activation_margin = 0.005;  // rows for constraints with C < this (stretch, predicted)
+  // Newton on the incremental potential (hyperelastic bodies, paper 003).
+  int newton_max_iterations = 20;
+  double newton_tolerance = 1e-6;  // |gradient| relative to its value at the first iterate
 };
 
 struct SceneDesc {

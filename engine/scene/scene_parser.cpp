@@ -31,6 +31,13 @@ bool RegionDesc::contains(const Vec3& p) const {
   return (p - a).dot(b) <= 0;
 }
 
+const std::vector<std::string>& material_model_names() {
+  static const std::vector<std::string> names = {
+      "corotational", "stable_neo_hookean", "neo_hookean", "corotational_hyperelastic",
+      "arap", "stvk", "fung", "arruda_boyce"};
+  return names;
+}
+
 int SceneDesc::steps_per_frame() const {
   const double steps = std::round(1.0 / (fps * h));
   return static_cast<int>(std::clamp(steps, 1.0, static_cast<double>(INT_MAX)));
@@ -393,11 +400,43 @@ void parse_transform(const Object& o, BodyDesc& body) {
 
 MaterialDesc parse_material(const Object& o) {
   MaterialDesc m;
-  o.choice("model", m.model, {"corotational"});
+  o.choice("model", m.model, material_model_names());
   m.E = o.require("E").number(kPositive);
   m.nu = o.require("nu").number(kPoisson);
   m.rho = o.require("rho").number(kPositive);
+  if (o.has("fung_c") && m.model != "fung") o.require("fung_c").fail("only allowed with model \"fung\"");
+  if (o.has("arruda_boyce_n") && m.model != "arruda_boyce")
+    o.require("arruda_boyce_n").fail("only allowed with model \"arruda_boyce\"");
+  o.number("fung_c", m.fung_c, kPositive);
+  o.number("arruda_boyce_n", m.arruda_boyce_n, Range{1, kInf, true, false});
   return m;
+}
+
+// A limit per axis: one number for all three, or an array of 3 whose entries are numbers
+// or null (that axis is free).
+Vec3 parse_axis_limits(const Node& n, double free_value, const Range& range) {
+  if (n.value().is_number()) return Vec3::Constant(n.number(range));
+  const auto valid = [&](const json& c) {
+    return c.is_null() || (c.is_number() && std::isfinite(c.get<double>()) && range.contains(c.get<double>()));
+  };
+  if (!n.value().is_array() || n.value().size() != 3 || !std::all_of(n.value().begin(), n.value().end(), valid))
+    n.expected("a number" + range.text() + " or an array of 3 such numbers or null (no limit)");
+  Vec3 out;
+  for (int j = 0; j < 3; ++j) out[j] = n.value()[j].is_null() ? free_value : n.value()[j].get<double>();
+  return out;
+}
+
+StrainLimitDesc parse_strain_limit(const Object& o) {
+  StrainLimitDesc d;
+  d.enabled = true;
+  o.choice("mode", d.mode, {"hyperbolic", "orthogonal", "linear", "isotropic"});
+  if (!o.has("smin") && !o.has("smax")) o.node().fail("expected 'smin', 'smax' or both");
+  if (auto n = o.get("smin")) d.smin = parse_axis_limits(*n, 0.0, Range{0, 1, false, false});
+  if (auto n = o.get("smax")) d.smax = parse_axis_limits(*n, kInf, Range{1, kInf, false, true});
+  if (d.mode == "isotropic" && (d.smin.minCoeff() != d.smin.maxCoeff() || d.smax.minCoeff() != d.smax.maxCoeff()))
+    o.node().fail("mode \"isotropic\" takes one smin and one smax for all axes");
+  if (auto r = o.get("frame_deg")) d.frame = rotation_from_euler_deg(r->vec3());
+  return d;
 }
 
 EnergyLimitDesc parse_energy_limit(const Object& o) {
@@ -414,9 +453,21 @@ EnergyLimitDesc parse_energy_limit(const Object& o) {
   return e;
 }
 
-const KeyList kBodyKeys = {"name",     "shape",   "mesh",  "transform", "cell_size",
-                           "surface_resolution", "material", "damping", "fixed",
-                           "velocity", "energy_limit"};
+const KeyList kBodyKeys = {"name",     "shape",   "mesh",  "tet_mesh", "elements", "transform",
+                           "cell_size", "surface_resolution", "material", "damping", "fixed",
+                           "velocity", "energy_limit", "strain_limit", "loads"};
+
+// Exactly one of the geometry keys.
+std::string geometry_key(const Object& o) {
+  const KeyList keys = {"shape", "mesh", "tet_mesh"};
+  KeyList present;
+  for (const std::string& k : keys)
+    if (o.has(k)) present.push_back(k);
+  if (present.size() != 1)
+    o.node().fail("expected exactly one of 'shape', 'mesh' or 'tet_mesh', got " +
+                  (present.empty() ? std::string("none") : quoted_list(present, '\'')));
+  return present[0];
+}
 
 BodyDesc parse_body(const Node& node, std::size_t index) {
   const Object o(node, kBodyKeys);
@@ -426,25 +477,38 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
   o.string("name", b.name);
   if (b.name.empty()) o.require("name").expected("a non-empty string");
 
-  if (o.one_of("shape", "mesh")) {
+  const std::string geometry = geometry_key(o);
+  if (geometry == "shape") {
     for (const Node& n : o.require("shape").elements(true))
       b.shape.parts.push_back(parse_primitive(n));
   } else {
-    b.mesh_path = resolve_mesh(o.require("mesh"));
+    (geometry == "mesh" ? b.mesh_path : b.tet_mesh_path) = resolve_mesh(o.require(geometry));
     if (o.has("surface_resolution"))
       o.require("surface_resolution")
           .fail("only allowed with 'shape' (a mesh body's surface is its mesh)");
   }
   if (auto t = o.get("transform"))
     parse_transform(Object(*t, {"scale", "rotation_deg", "translate"}), b);
-  b.cell_size = o.require("cell_size").number(kPositive);
+  o.choice("elements", b.elements, {"hex", "tet"});
+  if (geometry == "tet_mesh") {
+    if (o.has("elements") && b.elements != "tet") o.require("elements").fail("a tet_mesh body has \"tet\" elements");
+    if (o.has("cell_size")) o.require("cell_size").fail("not used by a tet_mesh body (its mesh is the simulation mesh)");
+    b.elements = "tet";
+  } else {
+    b.cell_size = o.require("cell_size").number(kPositive);
+  }
   o.number("surface_resolution", b.surface_resolution, kNonNegative);
-  b.material = parse_material(Object(o.require("material"), {"model", "E", "nu", "rho"}));
+  b.material = parse_material(
+      Object(o.require("material"), {"model", "E", "nu", "rho", "fung_c", "arruda_boyce_n"}));
   if (auto d = o.get("damping")) {
     const Object damping(*d, {"mass", "stiffness"});
     damping.number("mass", b.damping_mass, kNonNegative);
     damping.number("stiffness", b.damping_stiffness, kNonNegative);
   }
+  if (b.material.hyperelastic() && b.damping_stiffness > 0)
+    o.require("damping").child("stiffness").fail(
+        "stiffness damping is only for the \"corotational\" model (its stiffness matrix is constant over a step); "
+        "use mass damping with model \"" + b.material.model + "\"");
   if (auto f = o.get("fixed")) {
     for (const Node& n : f->elements(false))
       b.fixed.push_back(parse_region(Object(n, {"box", "half_space"})));
@@ -452,6 +516,20 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
   o.vec3("velocity", b.velocity);
   if (auto e = o.get("energy_limit"))
     b.energy_limit = parse_energy_limit(Object(*e, {"Umax", "jacobian", "regions"}));
+  if (auto loads = o.get("loads")) {
+    for (const Node& n : loads->elements(false)) {
+      const Object l(n, {"box", "half_space", "force", "ramp_time"});
+      LoadDesc load;
+      load.region = parse_region(l);
+      load.force = l.require("force").vec3();
+      l.number("ramp_time", load.ramp_time, kNonNegative);
+      b.loads.push_back(load);
+    }
+  }
+  if (auto e = o.get("strain_limit")) {
+    if (b.elements != "tet") e->fail("strain limits need tet elements (set \"elements\": \"tet\" or use 'tet_mesh')");
+    b.strain_limit = parse_strain_limit(Object(*e, {"smin", "smax", "mode", "frame_deg"}));
+  }
   return b;
 }
 
@@ -540,6 +618,10 @@ SolverDesc parse_solver(const Object& o) {
   o.number("contact_tolerance", s.contact_tolerance, kPositive);
   o.number("contact_margin", s.contact_margin, kNonNegative);
   o.number("body_friction", s.body_friction, kNonNegative);
+  o.number("strain_tolerance", s.strain_tolerance, kPositive);
+  o.number("strain_activation_margin", s.strain_activation_margin, kNonNegative);
+  o.integer("newton_max_iterations", s.newton_max_iterations, kPositive);
+  o.number("newton_tolerance", s.newton_tolerance, kPositive);
   return s;
 }
 
@@ -547,7 +629,8 @@ const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_ite
                              "pgs_max_iterations", "pgs_tolerance", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
                              "contact_margin", "body_friction", "sqp_position_tolerance",
-                             "refactor_interval"};
+                             "refactor_interval", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
+                             "newton_tolerance"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",
                             "frames", "solver",  "bodies", "obstacles"};
 

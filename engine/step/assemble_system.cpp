@@ -1,5 +1,6 @@
 #include <tbb/parallel_for.h>
 
+#include "engine/assembly/element_kernels.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/step/stages.hpp"
 
@@ -15,6 +16,12 @@ void assemble_system(const Model& model, State& state) {
   for (int n = 0; n < model.num_nodes; ++n)
     state.force.segment<3>(3 * n) =
         model.node_mass[n] * model.gravity + state.external_force.segment<3>(3 * n);
+  // Scene loads at the end of the step (backward Euler evaluates forces there).
+  for (const NodeLoad& load : model.loads) {
+    const double t = state.t + h;
+    const double ramp = load.ramp_time > 0 ? std::min(1.0, t / load.ramp_time) : 1.0;
+    for (int n : load.nodes) state.force.segment<3>(3 * n) += ramp * load.node_force;
+  }
 
   // Rotations and elastic forces; a colour's elements share no node, so the force
   // scatter needs no lock and sums in a fixed order.
@@ -24,18 +31,19 @@ void assemble_system(const Model& model, State& state) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const int e = color[i];
-        const auto& nodes = model.element_nodes[e];
-        const Hex8Reference& ref = model.references[model.element_reference[e]];
-        std::array<Vec3, 8> x, X;
-        for (int a = 0; a < 8; ++a) {
-          x[a] = state.x.segment<3>(3 * nodes[a]);
-          X[a] = model.rest_x.segment<3>(3 * nodes[a]);
+        const Body& body = model.bodies[model.element_body[e]];
+        const ElementNodes nodes = gather_element_nodes(model, state.x, e);
+        const CorotatedElement c = compute_corotated_element(model, e, nodes);
+        state.R[e] = c.R;
+        // Hyperelastic elements enter through solve_newton; R still serves energy limits.
+        if (body.hyperelastic) {
+          k_scale[e] = 0;
+          continue;
         }
-        const Mat3 R = compute_hex8_rotation(x, ref.cell_size);
-        state.R[e] = R;
-        const Vec24 f = hex8_elastic_force(ref, R, hex8_corotated_displacement(R, x, X));
-        for (int a = 0; a < 8; ++a) state.force.segment<3>(3 * nodes[a]) += f.segment<3>(3 * a);
-        k_scale[e] = h * model.bodies[model.element_body[e]].damping_stiffness + h * h;
+        const Vec24 f = element_elastic_force(model, e, c.R, c.u);
+        for (int a = 0; a < nodes.count; ++a)
+          state.force.segment<3>(3 * model.element_nodes[e][a]) += f.segment<3>(3 * a);
+        k_scale[e] = h * body.damping_stiffness + h * h;
       }
     });
   }

@@ -5,6 +5,7 @@
 #include "engine/constraints/contact_rows.hpp"
 #include "engine/constraints/energy_limit.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
+#include "engine/constraints/strain_limit_rows.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
@@ -24,6 +25,11 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
   const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
   profile.violation["energy"] = std::max(0.0, energy);
   double worst = energy / model.solver.sqp_tolerance;
+  if (model.has_strain_limits) {
+    const double strain = add_strain_limit_rows(model, x, model.solver.strain_activation_margin, keep, rows);
+    profile.violation["strain"] = std::max(0.0, strain);
+    worst = std::max(worst, strain / model.solver.strain_tolerance);
+  }
   if (!model.obstacles.empty() || model.bodies.size() > 1) {
     const double penetration = std::max(add_contact_rows(model, t_end, x, v, keep, rows).deepest,
                                         add_body_contact_rows(model, x, v, keep, surfaces, rows).deepest);
@@ -35,7 +41,7 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
 }
 
 bool has_constraints(const Model& model) {
-  return !model.obstacles.empty() || model.bodies.size() > 1 ||
+  return !model.obstacles.empty() || model.bodies.size() > 1 || model.has_strain_limits ||
          std::any_of(model.element_Umax.begin(), model.element_Umax.end(), [](double u) { return u > 0; });
 }
 
@@ -90,7 +96,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const bool constrained = has_constraints(model);
   if (!constrained && s.factor_exact) {
     profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
-    profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles and no energy limits";
+    profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles, no energy or strain limits";
     return;
   }
   const SolverDesc& cfg = model.solver;

@@ -16,6 +16,10 @@ void assemble_system(const Model& model, State& state);
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state);
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state);
 
+// 2-3 for scenes with hyperelastic bodies (paper 003): Newton on the incremental potential
+//    from the previous velocities; leaves system/rhs as the quadratic model at the result.
+bool solve_newton(const Model& model, LinearSolver& solver, State& state);
+
 // 4. Constraints (paper 000, section 5): rows at x* = x0 + h v*, the LCP of eq. 23 by
 //    projected Gauss-Seidel, and SQP re-linearisation at the corrected positions until
 //    the worst violation meets the tolerance. Updates state.v.

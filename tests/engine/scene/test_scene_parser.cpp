@@ -365,9 +365,11 @@ TEST_CASE("scene parser: string and choice errors") {
   check_error(scene, "name: expected a string, got 3");
 
   scene = minimal_scene();
-  scene["bodies"][0]["material"]["model"] = "neohookean";
+  scene["bodies"][0]["material"]["model"] = "neohookian";
   check_error(scene,
-              "bodies[0].material.model: expected one of \"corotational\", got \"neohookean\"");
+              "bodies[0].material.model: expected one of \"corotational\", \"stable_neo_hookean\", "
+              "\"neo_hookean\", \"corotational_hyperelastic\", \"arap\", \"stvk\", \"fung\", "
+              "\"arruda_boyce\", got \"neohookian\"");
 
   scene = minimal_scene();
   scene["solver"] = {{"linear", "lu"}};
@@ -483,11 +485,11 @@ TEST_CASE("scene parser: structure errors") {
 TEST_CASE("scene parser: shape and mesh are exclusive") {
   json scene = minimal_scene();
   scene["bodies"][0].erase("shape");
-  check_error(scene, "bodies[0]: expected exactly one of 'shape' or 'mesh', got neither");
+  check_error(scene, "bodies[0]: expected exactly one of 'shape', 'mesh' or 'tet_mesh', got none");
 
   scene = minimal_scene();
   scene["bodies"][0]["mesh"] = "x.obj";
-  check_error(scene, "bodies[0]: expected exactly one of 'shape' or 'mesh', got both");
+  check_error(scene, "bodies[0]: expected exactly one of 'shape', 'mesh' or 'tet_mesh', got 'shape', 'mesh'");
 }
 
 TEST_CASE("scene parser: primitive sizes") {

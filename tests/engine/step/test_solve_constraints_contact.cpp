@@ -173,7 +173,7 @@ TEST_CASE("contact: a scene without obstacles or limits skips the constraint sta
   scene.obstacles.clear();
   World w = make_world(scene);
   REQUIRE(w.step());
-  CHECK(w.profile().skipped[static_cast<int>(Stage::Rows)] == "scene has one body, no obstacles and no energy limits");
+  CHECK(w.profile().skipped[static_cast<int>(Stage::Rows)] == "scene has one body, no obstacles, no energy or strain limits");
   CHECK(w.profile().violation.count("penetration") == 0);
   CHECK(w.state().rows.size() == 0);
 }

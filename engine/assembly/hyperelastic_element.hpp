@@ -1,0 +1,22 @@
+#pragma once
+// Energy, gradient and projected Hessian of one element of a hyperelastic body (paper 003),
+// for hex8 (8 Gauss points) and tet4 (one point) alike:
+//   Psi_e(x) = sum_q w_q Psi(F_q),   F_q = sum_a x_a (dN_a/dX)(q)^T
+//   dPsi_e/dx_a = sum_q w_q P(F_q) dN_a(q)
+//   d2Psi_e/dx_a,k dx_b,l = sum_q w_q sum_{j,m} H_(k+3j),(l+3m) dN_a,j dN_b,m
+// with vec(F) column-major (engine/materials/material.hpp), so dvec(F)/dx = B with
+// B(i + 3j, 3a + i) = dN_a,j. Results are padded to 8 nodes like element_kernels.hpp.
+#include "engine/assembly/element_kernels.hpp"
+
+namespace sinew {
+
+// +infinity when the material is undefined at some point (e.g. neo_hookean with J <= 0).
+double hyperelastic_element_energy(const Material& material, const ElementQuadrature& quad,
+                                   const ElementNodes& nodes);
+
+// Returns the energy; writes the gradient and (if hessian != nullptr) the sum of the
+// points' projected Hessians, which is positive semi-definite.
+double hyperelastic_element_derivatives(const Material& material, const ElementQuadrature& quad,
+                                        const ElementNodes& nodes, Vec24& gradient, Mat24* hessian);
+
+}  // namespace sinew

@@ -1,0 +1,100 @@
+#include "engine/constraints/strain_limit_rows.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+
+#include "engine/assembly/element_kernels.hpp"
+
+namespace sinew {
+
+StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc) {
+  StrainLimitSpec spec;
+  spec.smin = desc.smin;
+  spec.smax = desc.smax;
+  spec.frame = desc.frame;
+  spec.mode = desc.mode == "orthogonal" ? StrainLimitMode::Orthogonal
+              : desc.mode == "linear"   ? StrainLimitMode::Linear
+              : desc.mode == "isotropic" ? StrainLimitMode::Isotropic
+                                         : StrainLimitMode::Hyperbolic;
+  return spec;
+}
+
+namespace {
+
+bool is_limited(const Model& model, int e) {
+  return model.element_type[e] == ElementType::Tet4 && model.bodies[model.element_body[e]].strain_limit.enabled;
+}
+
+Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
+  return element_center_deformation_gradient(model, e, gather_element_nodes(model, x, e));
+}
+
+// Per element, the worst violation (-inf without strain limits).
+std::vector<double> worst_per_element(const Model& model, const VecX& x) {
+  std::vector<double> worst(model.num_elements, -1e300);
+  tbb::parallel_for(0, model.num_elements, [&](int e) {
+    if (!is_limited(model, e)) return;
+    const StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+    worst[e] = worst_strain_violation(spec, tet_deformation_gradient(model, x, e));
+  });
+  return worst;
+}
+
+double overall(const Model& model, const std::vector<double>& worst) {
+  double w = -1;
+  for (int e = 0; e < model.num_elements; ++e)
+    if (is_limited(model, e)) w = std::max(w, worst[e]);
+  return w;
+}
+
+}  // namespace
+
+double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
+                             const std::vector<uint64_t>& keep, RowTable& rows) {
+  if (!model.has_strain_limits) return -1;
+  const std::vector<double> worst = worst_per_element(model, x);
+  // Kept constraints per tet, as bit masks over the constraint index k.
+  std::vector<std::pair<int, uint32_t>> kept;
+  for (uint64_t key : keep)
+    if ((key >> 60) == uint64_t(RowKind::Strain)) {
+      const int e = static_cast<int>((key >> 24) & 0xFFFFFFFFFull);
+      const uint32_t bit = 1u << (key & 0xFFFFFF);
+      if (kept.empty() || kept.back().first != e) kept.push_back({e, 0});
+      kept.back().second |= bit;
+    }
+  std::sort(kept.begin(), kept.end());
+  std::vector<int> candidates;
+  for (int e = 0; e < model.num_elements; ++e) {
+    const bool has_kept = std::binary_search(kept.begin(), kept.end(), std::make_pair(e, 0u),
+                                             [](auto a, auto b) { return a.first < b.first; });
+    if (is_limited(model, e) && (worst[e] > -margin || has_kept)) candidates.push_back(e);
+  }
+  std::vector<StrainLimitRows> found(candidates.size());
+  tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
+    const int e = candidates[i];
+    const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
+                                     [](auto a, auto b) { return a.first < b.first; });
+    const uint32_t mask = (it != kept.end() && it->first == e) ? it->second : 0u;
+    const StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+    const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
+    evaluate_strain_limit(spec, tet_deformation_gradient(model, x, e), dN_dX, margin, mask, found[i]);
+  });
+  // Rows in element order: the table does not depend on the thread count.
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const int e = candidates[i];
+    for (int r = 0; r < found[i].count; ++r) {
+      const StrainLimitRow& row = found[i].row[r];
+      rows.add_row(RowKind::Strain, row.value, 0.0, 1e300, row_key(RowKind::Strain, e, row.index));
+      for (int a = 0; a < 4; ++a) rows.add_entry(model.element_nodes[e][a], row.jac.segment<3>(3 * a));
+    }
+  }
+  return overall(model, worst);
+}
+
+double worst_strain_limit_violation(const Model& model, const VecX& x) {
+  if (!model.has_strain_limits) return -1;
+  return overall(model, worst_per_element(model, x));
+}
+
+}  // namespace sinew

@@ -1,0 +1,21 @@
+#pragma once
+// Rows of the strain-limit constraints (paper 001; per-tet math in strain_limit.hpp) for
+// every tet of the bodies that have strain limits.
+#include "engine/constraints/row_table.hpp"
+#include "engine/constraints/strain_limit.hpp"
+#include "engine/model.hpp"
+
+namespace sinew {
+
+StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
+
+// Adds a row for every constraint with C < margin at x, or whose key is in `keep` (sorted;
+// rows that carried force earlier in this step). Returns the worst violation max(-C) over
+// all limited tets (-1 when none). Rows are linear for SQP (no curvature term).
+double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
+                             const std::vector<uint64_t>& keep, RowTable& rows);
+
+// The same worst violation, without rows.
+double worst_strain_limit_violation(const Model& model, const VecX& x);
+
+}  // namespace sinew

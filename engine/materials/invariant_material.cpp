@@ -1,0 +1,76 @@
+#include "engine/materials/invariant_material.hpp"
+
+#include <Eigen/Geometry>
+#include <Eigen/Geometry>
+
+namespace sinew {
+
+namespace {
+
+Mat3 cross_matrix(const Vec3& a) {
+  Mat3 m;
+  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return m;
+}
+
+InvariantTerms terms_at(const InvariantMaterial& material, const Mat3& F) {
+  return material.terms(F.squaredNorm(), F.determinant());
+}
+
+}  // namespace
+
+Mat3 cofactor_matrix(const Mat3& F) {
+  Mat3 c;
+  c.col(0) = F.col(1).cross(F.col(2));
+  c.col(1) = F.col(2).cross(F.col(0));
+  c.col(2) = F.col(0).cross(F.col(1));
+  return c;
+}
+
+Mat9 cofactor_hessian(const Mat3& F) {
+  Mat9 H = Mat9::Zero();
+  const Mat3 b01 = -cross_matrix(F.col(2));
+  const Mat3 b02 = cross_matrix(F.col(1));
+  const Mat3 b12 = -cross_matrix(F.col(0));
+  H.block<3, 3>(0, 3) = b01;
+  H.block<3, 3>(3, 0) = b01.transpose();
+  H.block<3, 3>(0, 6) = b02;
+  H.block<3, 3>(6, 0) = b02.transpose();
+  H.block<3, 3>(3, 6) = b12;
+  H.block<3, 3>(6, 3) = b12.transpose();
+  return H;
+}
+
+double InvariantMaterial::energy(const Mat3& F) const { return terms_at(*this, F).psi; }
+
+Mat3 InvariantMaterial::pk1(const Mat3& F) const {
+  const InvariantTerms t = terms_at(*this, F);
+  return 2 * t.f1 * F + t.g1 * cofactor_matrix(F);
+}
+
+Mat9 InvariantMaterial::hessian(const Mat3& F) const {
+  const InvariantTerms t = terms_at(*this, F);
+  const Vec9 f = vec9(F);
+  const Vec9 c = vec9(cofactor_matrix(F));
+  Mat9 H = 4 * t.f2 * f * f.transpose() + t.g2 * c * c.transpose() + t.g1 * cofactor_hessian(F);
+  H.diagonal().array() += 2 * t.f1;
+  return H;
+}
+
+SvdEigensystem InvariantMaterial::eigensystem(const Mat3& F) const {
+  const InvariantTerms t = terms_at(*this, F);
+  SvdEigensystem system{compute_rotation_variant_svd(F)};
+  const Vec3& s = system.svd.S;
+  const Vec3 c(s(1) * s(2), s(0) * s(2), s(0) * s(1));
+  for (int k = 0; k < 3; ++k) {
+    system.twist(k) = 2 * t.f1 + t.g1 * s(k);
+    system.flip(k) = 2 * t.f1 - t.g1 * s(k);
+  }
+  system.scaling = 4 * t.f2 * s * s.transpose() + t.g2 * c * c.transpose();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      system.scaling(i, j) += i == j ? 2 * t.f1 : t.g1 * s(3 - i - j);
+  return system;
+}
+
+}  // namespace sinew

@@ -1,0 +1,42 @@
+#pragma once
+// Materials of the form Psi(F) = f(Ic) + g(J), Ic = tr(F^T F), J = det F: stable and classic
+// Neo-Hookean, Fung, Arruda-Boyce (paper 003, secs. 3-4 and 7: the analysis "supports any model
+// formulated in terms of the first and third invariants"). With cof(F) = dJ/dF and
+// H_J = d^2 J / dF^2 (linear in F):
+//   P = 2 f' F + g' cof(F)
+//   H = 2 f' I_9 + 4 f'' vec(F) vec(F)^T + g'' vec(cof F) vec(cof F)^T + g' H_J
+// and in the SVD frame (psi_i = 2 f' sigma_i + g' sigma_j sigma_k; paper 003, sec. 4.5):
+//   twist_k = 2 f' + g' sigma_k,   flip_k = 2 f' - g' sigma_k,
+//   scaling_ij = 2 f' delta_ij + 4 f'' sigma_i sigma_j + g'' c_i c_j + g' (1 - delta_ij) sigma_k,
+// c_i = dJ / dsigma_i = sigma_j sigma_k. No division anywhere: finite for every finite F.
+#include "engine/materials/isotropic_material.hpp"
+
+namespace sinew {
+
+// dJ/dF = [f1 x f2, f2 x f0, f0 x f1] (columns f_a of F).
+Mat3 cofactor_matrix(const Mat3& F);
+
+// d^2 J / dF^2: 3x3 blocks (a, b) = d^2 J / df_a df_b; zero diagonal blocks,
+// (0, 1) = -[f2]x, (0, 2) = [f1]x, (1, 2) = -[f0]x, symmetric.
+Mat9 cofactor_hessian(const Mat3& F);
+
+// f(Ic) + g(J) and the four derivatives the formulas above need, at one (Ic, J).
+struct InvariantTerms {
+  double psi = 0;
+  double f1 = 0;  // f'(Ic)
+  double f2 = 0;  // f''(Ic)
+  double g1 = 0;  // g'(J)
+  double g2 = 0;  // g''(J)
+};
+
+class InvariantMaterial : public IsotropicMaterial {
+ public:
+  double energy(const Mat3& F) const override;
+  Mat3 pk1(const Mat3& F) const override;
+  Mat9 hessian(const Mat3& F) const override;
+  SvdEigensystem eigensystem(const Mat3& F) const override;
+  // The material's f, g and derivatives (public so tests can check them directly).
+  virtual InvariantTerms terms(double Ic, double J) const = 0;
+};
+
+}  // namespace sinew

@@ -1,0 +1,62 @@
+#include "engine/math/svd_derivative.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sinew {
+
+namespace {
+
+// Omega_U, Omega_V from A = U^T dF V, pair by pair (header: the 2x2 system and its clamp).
+void solve_omegas(const Vec3& S, const Mat3& A, double eps, Mat3& omega_U, Mat3& omega_V) {
+  omega_U.setZero();
+  omega_V.setZero();
+  for (int k = 0; k < 3; ++k)
+    for (int l = k + 1; l < 3; ++l) {
+      const double diff = std::min(S(l) - S(k), -eps);
+      const double sum = std::max(S(l) + S(k), eps);
+      const double sym = 0.5 * (A(k, l) + A(l, k));
+      const double skew = 0.5 * (A(k, l) - A(l, k));
+      const double a = sym / diff + skew / sum;
+      const double b = sym / diff - skew / sum;
+      omega_U(k, l) = a;
+      omega_U(l, k) = -a;
+      omega_V(k, l) = b;
+      omega_V(l, k) = -b;
+    }
+}
+
+double clamp_epsilon(const RotationVariantSvd& svd, double gap_tolerance) {
+  return gap_tolerance * std::max(std::abs(svd.S(0)), 1.0);
+}
+
+}  // namespace
+
+SvdDifferential compute_svd_differential(const RotationVariantSvd& svd, const Mat3& dF,
+                                         double gap_tolerance) {
+  SvdDifferential d;
+  const Mat3 A = svd.U.transpose() * dF * svd.V;
+  d.dS = A.diagonal();
+  solve_omegas(svd.S, A, clamp_epsilon(svd, gap_tolerance), d.omega_U, d.omega_V);
+  d.dU = svd.U * d.omega_U;
+  d.dV = svd.V * d.omega_V;
+  return d;
+}
+
+SvdDerivative compute_svd_derivative(const RotationVariantSvd& svd, double gap_tolerance) {
+  SvdDerivative d;
+  const double eps = clamp_epsilon(svd, gap_tolerance);
+  Mat3 omega_U, omega_V;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      // U^T e_r e_c^T V = (row r of U)^T (row c of V).
+      const Mat3 A = svd.U.row(r).transpose() * svd.V.row(c);
+      d.dS[r][c] = A.diagonal();
+      solve_omegas(svd.S, A, eps, omega_U, omega_V);
+      d.dU[r][c] = svd.U * omega_U;
+      d.dV[r][c] = svd.V * omega_V;
+    }
+  return d;
+}
+
+}  // namespace sinew
