@@ -47,6 +47,12 @@ inline std::vector<Sample> samples(bool include_inverted = true) {
   return out;
 }
 
+// Near rest, slightly expanded with every sigma > 1: the Hessian is PD for every material here
+// (at F = I it is Hooke's, PD for -1 < nu < 1/2; all sigma > 1 keeps ARAP's twists
+// 2 mu - 4 mu / (sigma_i + sigma_j) positive; J - 1 = 0.06 keeps the flips of the J-materials,
+// which turn negative under larger expansion, positive).
+inline Mat3 near_rest() { return with_singular_values(Vec3(1.03, 1.02, 1.01)); }
+
 // Inverted and degenerate F: J < 0, and F crushed to a plane, a line and a point.
 inline std::vector<Sample> degenerate_samples() {
   return {

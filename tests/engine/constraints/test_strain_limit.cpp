@@ -1,0 +1,419 @@
+#include <doctest/doctest.h>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <cmath>
+#include <random>
+#include <string>
+
+#include "engine/constraints/strain_limit.hpp"
+
+using namespace sinew;
+
+namespace {
+
+const double kInf = std::numeric_limits<double>::infinity();
+const StrainLimitMode kModes[] = {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal,
+                                  StrainLimitMode::Linear, StrainLimitMode::Isotropic};
+
+const char* mode_name(StrainLimitMode m) {
+  switch (m) {
+    case StrainLimitMode::Hyperbolic:
+      return "hyperbolic";
+    case StrainLimitMode::Orthogonal:
+      return "orthogonal";
+    case StrainLimitMode::Linear:
+      return "linear";
+    case StrainLimitMode::Isotropic:
+      return "isotropic";
+  }
+  return "";
+}
+
+Mat3 random_rotation(std::mt19937& rng) {
+  std::normal_distribution<double> n(0, 1);
+  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
+}
+
+// A rest tet: nodes X_0..X_3, and the gradients of its shape functions (row a: dN_a/dX), from
+// F = Ds Dm^-1 = sum_{a=1..3} (x_a - x_0) (row a-1 of Dm^-1).
+struct Tet {
+  std::array<Vec3, 4> X{Vec3(0.01, -0.02, 0.0), Vec3(0.11, 0.01, -0.01), Vec3(-0.02, 0.09, 0.02),
+                        Vec3(0.03, 0.02, 0.12)};
+  Mat43 dN_dX;
+  Tet() {
+    Mat3 Dm;
+    for (int a = 1; a < 4; ++a) Dm.col(a - 1) = X[a] - X[0];
+    const Mat3 Dm_inv = Dm.inverse();
+    dN_dX.bottomRows<3>() = Dm_inv;
+    dN_dX.row(0) = -Dm_inv.colwise().sum();
+  }
+  std::array<Vec3, 4> deformed(const Mat3& F) const {
+    std::array<Vec3, 4> x;
+    for (int a = 0; a < 4; ++a) x[a] = F * X[a] + Vec3(0.3, -0.1, 0.2);
+    return x;
+  }
+  Mat3 F_of(const std::array<Vec3, 4>& x) const {
+    Mat3 F = Mat3::Zero();
+    for (int a = 0; a < 4; ++a) F += x[a] * dN_dX.row(a);
+    return F;
+  }
+};
+
+StrainLimitValues values(const StrainLimitSpec& spec, const Mat3& F) {
+  return compute_strain_limit_values(spec, compute_rotation_variant_svd(F));
+}
+
+// Central-difference gradient of constraint k over the 12 node coordinates.
+Vec12 fd_gradient(const Tet& tet, const StrainLimitSpec& spec, const std::array<Vec3, 4>& x, int k,
+                  double step) {
+  Vec12 g;
+  for (int n = 0; n < 12; ++n) {
+    auto xp = x, xm = x;
+    xp[n / 3][n % 3] += step;
+    xm[n / 3][n % 3] -= step;
+    const StrainLimitValues p = values(spec, tet.F_of(xp)), m = values(spec, tet.F_of(xm));
+    REQUIRE((p.present >> k & 1u));
+    REQUIRE((m.present >> k & 1u));
+    g[n] = (p.C[k] - m.C[k]) / (2 * step);
+  }
+  return g;
+}
+
+int popcount(uint32_t bits) {
+  int n = 0;
+  for (; bits; bits &= bits - 1) ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("strain limit: every mode's Jacobian equals finite differences of its value") {
+  Tet tet;
+  std::mt19937 rng(17);
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.9, 0.8, 0.95);
+  spec.smax = Vec3(1.1, 1.3, 1.05);
+  // Singular values apart by far more than kStrainLimitGapTolerance; one inverted case.
+  const Vec3 stretches[] = {Vec3(1.15, 1.02, 0.9), Vec3(1.3, 0.95, 0.8), Vec3(1.1, 0.97, -0.85)};
+  for (StrainLimitMode mode : kModes) {
+    spec.mode = mode;
+    for (const Vec3& s : stretches) {
+      spec.frame = random_rotation(rng);
+      const Mat3 F = random_rotation(rng) * s.asDiagonal() * random_rotation(rng).transpose();
+      const auto x = tet.deformed(F);
+      StrainLimitRows rows;
+      evaluate_strain_limit(spec, tet.F_of(x), tet.dN_dX, kInf, 0, rows);
+      const bool per_axis =
+          mode == StrainLimitMode::Hyperbolic || mode == StrainLimitMode::Orthogonal;
+      CHECK(rows.count == (per_axis ? 18 : 6));
+      double worst_error = 0;
+      for (int r = 0; r < rows.count; ++r) {
+        const StrainLimitRow& row = rows.row[r];
+        REQUIRE(row.jac.allFinite());
+        CHECK(row.value == doctest::Approx(values(spec, F).C[row.index]).epsilon(1e-12));
+        // Central differences: the error falls like step^2 until rounding takes over.
+        double previous = 1e300, error = 0;
+        for (double step : {1e-3, 1e-4, 1e-5, 1e-6}) {
+          error = (fd_gradient(tet, spec, x, row.index, step) - row.jac).norm() / row.jac.norm();
+          CHECK(error < previous);
+          previous = error;
+        }
+        worst_error = std::max(worst_error, error);
+      }
+      MESSAGE(std::string(mode_name(mode))
+              << ", s = " << s.transpose() << ": worst relative FD error " << worst_error);
+      CHECK(worst_error < 1e-6);
+    }
+  }
+}
+
+TEST_CASE("strain limit: a free axis produces no constraint; no limits, no rows") {
+  Tet tet;
+  std::mt19937 rng(4);
+  const Mat3 F =
+      random_rotation(rng) * Vec3(1.2, 1.0, 0.9).asDiagonal() * random_rotation(rng).transpose();
+  StrainLimitSpec spec;  // defaults: smin = 0, smax = +inf on every axis: all free
+  for (StrainLimitMode mode : kModes) {
+    spec.mode = mode;
+    CHECK(values(spec, F).present == 0);
+    CHECK(worst_strain_violation(spec, F) == -kInf);
+    StrainLimitRows rows;
+    evaluate_strain_limit(spec, F, tet.dN_dX, kInf, ~0u, rows);
+    CHECK(rows.count == 0);
+  }
+  // Only axis 0 limited: hyperbolic and orthogonal have the 6 constraints of j = 0.
+  spec.smin = Vec3(0.95, 0, -1);
+  spec.smax = Vec3(1.05, kInf, kInf);
+  for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal}) {
+    spec.mode = mode;
+    const StrainLimitValues v = values(spec, F);
+    CHECK(popcount(v.present) == 6);
+    for (int i = 0; i < 3; ++i)
+      for (int side = 0; side < 2; ++side)
+        CHECK((v.present >> strain_limit_index(i, 0, side) & 1u));
+  }
+  // Hyperbolic with F = diag: only the principal axis along e_0 has limits (a = 1); the
+  // others are orthogonal to it (a = 0: infinite projected limit, no constraint).
+  spec.mode = StrainLimitMode::Hyperbolic;
+  const StrainLimitValues diag = values(spec, Vec3(1.01, 1.2, 0.9).asDiagonal());
+  CHECK(popcount(diag.present) == 2);
+  // Linear: the stretch limit is infinite as soon as a principal axis leans on a free axis.
+  spec.mode = StrainLimitMode::Linear;
+  const StrainLimitValues lin = values(spec, F);
+  for (int i = 0; i < 3; ++i) {
+    CHECK((lin.present >> strain_limit_index(i, 0, 0) & 1u));
+    CHECK_FALSE((lin.present >> strain_limit_index(i, 0, 1) & 1u));
+  }
+}
+
+TEST_CASE("strain limit: with frame = I and F = diag(s) the projected limits are the axis limits") {
+  // The SVD sorts by magnitude: s = (1.02, 0.97, 1.01) gives principal axes e_0, e_2, e_1.
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.9, 0.8, 0.95);
+  spec.smax = Vec3(1.1, 1.3, 1.05);
+  const RotationVariantSvd svd = compute_rotation_variant_svd(Vec3(1.02, 0.97, 1.01).asDiagonal());
+  const int axis_of[3] = {0, 2, 1};
+  for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Linear}) {
+    spec.mode = mode;
+    const ProjectedStrainLimits lim = compute_projected_strain_limits(spec, svd);
+    for (int i = 0; i < 3; ++i) {
+      CHECK(lim.smin(i) == doctest::Approx(spec.smin(axis_of[i])).epsilon(1e-12));
+      CHECK(lim.smax(i) == doctest::Approx(spec.smax(axis_of[i])).epsilon(1e-12));
+    }
+  }
+  // Orthogonal projection gives each principal axis the limit 1 from the two axes it is
+  // orthogonal to (eqs. 19-20 with |cos| = 0): no deformation allowed at all (paper, sec. 5.2).
+  spec.mode = StrainLimitMode::Orthogonal;
+  const ProjectedStrainLimits ortho = compute_projected_strain_limits(spec, svd);
+  CHECK((ortho.smin - Vec3::Ones()).norm() < 1e-15);
+  CHECK((ortho.smax - Vec3::Ones()).norm() < 1e-15);
+  // Isotropic: the tightest of the axis limits, 0.95 and 1.05, on every axis.
+  spec.mode = StrainLimitMode::Isotropic;
+  const ProjectedStrainLimits iso = compute_projected_strain_limits(spec, svd);
+  CHECK((iso.smin - Vec3::Constant(0.95)).norm() < 1e-15);
+  CHECK((iso.smax - Vec3::Constant(1.05)).norm() < 1e-15);
+}
+
+TEST_CASE("strain limit: the projected limits match the constraints' signs") {
+  // All C >= 0 exactly when smin(i) <= s_i <= smax(i), for every mode.
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(0.85, 1.15);
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.9, 0.0, 0.95);
+  spec.smax = Vec3(1.1, 1.3, kInf);
+  for (StrainLimitMode mode : kModes) {
+    spec.mode = mode;
+    for (int trial = 0; trial < 200; ++trial) {
+      spec.frame = random_rotation(rng);
+      const Mat3 F = random_rotation(rng) * Vec3(u(rng), u(rng), u(rng)).asDiagonal() *
+                     random_rotation(rng).transpose();
+      const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+      const ProjectedStrainLimits lim = compute_projected_strain_limits(spec, svd);
+      const bool inside =
+          (svd.S.array() >= lim.smin.array()).all() && (svd.S.array() <= lim.smax.array()).all();
+      CHECK(inside == (worst_strain_violation(spec, F) <= 0));
+    }
+  }
+}
+
+TEST_CASE("strain limit: isotropic limits are rotation-invariant") {
+  std::mt19937 rng(12);
+  StrainLimitSpec spec;
+  spec.mode = StrainLimitMode::Isotropic;
+  spec.smin = Vec3::Constant(0.96);
+  spec.smax = Vec3::Constant(1.04);
+  const Mat3 F =
+      random_rotation(rng) * Vec3(1.07, 1.0, 0.93).asDiagonal() * random_rotation(rng).transpose();
+  const StrainLimitValues base = values(spec, F);
+  for (int trial = 0; trial < 10; ++trial) {
+    StrainLimitSpec turned = spec;
+    turned.frame = random_rotation(rng);  // unused by the isotropic mode
+    const Mat3 G = random_rotation(rng) * F * random_rotation(rng).transpose();
+    const StrainLimitValues v = values(turned, G);
+    REQUIRE(v.present == base.present);
+    for (int k = 0; k < kStrainLimitCount; ++k)
+      if (base.present >> k & 1u) CHECK(v.C[k] == doctest::Approx(base.C[k]).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("strain limit: material-frame limits follow the material") {
+  // Rotating the rest shape by Q (F -> F Q^T) together with the frame (M -> Q M), and the
+  // world by R (F -> R F), leaves every constraint of every mode unchanged.
+  std::mt19937 rng(13);
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.95, 0.0, 0.75);
+  spec.smax = Vec3(1.05, kInf, 1.25);
+  for (StrainLimitMode mode : kModes) {
+    spec.mode = mode;
+    spec.frame = random_rotation(rng);
+    const Mat3 F =
+        random_rotation(rng) * Vec3(1.1, 0.98, 0.8).asDiagonal() * random_rotation(rng).transpose();
+    const StrainLimitValues base = values(spec, F);
+    for (int trial = 0; trial < 5; ++trial) {
+      const Mat3 Q = random_rotation(rng), R = random_rotation(rng);
+      StrainLimitSpec turned = spec;
+      turned.frame = Q * spec.frame;
+      const StrainLimitValues v = values(turned, R * F * Q.transpose());
+      REQUIRE(v.present == base.present);
+      for (int k = 0; k < kStrainLimitCount; ++k)
+        if (base.present >> k & 1u) CHECK(v.C[k] == doctest::Approx(base.C[k]).epsilon(1e-10));
+      // Rotating only the frame changes the anisotropic constraints.
+      if (mode != StrainLimitMode::Isotropic && trial == 0) {
+        const StrainLimitValues moved = values(turned, F);
+        double change = 0;
+        for (int k = 0; k < kStrainLimitCount; ++k)
+          if ((moved.present & base.present) >> k & 1u)
+            change = std::max(change, std::abs(moved.C[k] - base.C[k]));
+        CHECK(change > 1e-3);
+      }
+    }
+  }
+}
+
+TEST_CASE("strain limit: hyperbolic vs orthogonal vs linear on a principal axis at 45 degrees") {
+  // Axis x limited to [0.95, 1.05], y and z free. The principal axes are
+  //   d = (1, 1, 0)/sqrt2 stretched by 1.05, z by 1.01, p = (1, -1, 0)/sqrt2 by 1.00,
+  // so |cos| = 1/sqrt2 between d (and p) and x, and 0 between z and x.
+  // x-fibre: F e_x = (1.05 d + 1.00 p)/sqrt2 = (1.025, 0.025, 0), |F e_x| = 1.025305: the
+  // material is inside its x-limit (to first order the fibre strain is 0.05 cos^2 = 0.025).
+  //   hyperbolic (eqs. 7-8): d gets 1 +- 0.05 sqrt2 = [0.929289, 1.070711]: satisfied,
+  //     C_max(d, x) = 0.05 - 0.05/sqrt2 = 0.014645; z gets no limit (|cos| = 0).
+  //   orthogonal (eqs. 19-20): d gets 1 +- 0.05/sqrt2 = [0.964645, 1.035355]: violated,
+  //     C_max(d, x) = 0.05/sqrt2 - 0.05 = -0.014645; z gets [1, 1]: C_max(z, x) = -0.01.
+  //   linear (eqs. 21-22): d gets compress 0.95/sqrt2 = 0.671751 (free y counts 0) and no
+  //     stretch limit (d leans on the free y axis): under-constrained.
+  const double r2 = std::sqrt(0.5);
+  const Vec3 d(r2, r2, 0), p(r2, -r2, 0), z(0, 0, 1);
+  const Mat3 F = 1.05 * d * d.transpose() + 1.00 * p * p.transpose() + 1.01 * z * z.transpose();
+  CHECK((F * Vec3::UnitX()).norm() == doctest::Approx(1.025305).epsilon(1e-6));
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.95, 0, 0);
+  spec.smax = Vec3(1.05, kInf, kInf);
+  const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+  REQUIRE(std::abs(svd.V.col(0).dot(d)) == doctest::Approx(1).epsilon(1e-12));
+  REQUIRE(std::abs(svd.V.col(1).dot(z)) == doctest::Approx(1).epsilon(1e-12));
+
+  spec.mode = StrainLimitMode::Hyperbolic;
+  ProjectedStrainLimits lim = compute_projected_strain_limits(spec, svd);
+  CHECK(lim.smin(0) == doctest::Approx(1 - 0.05 / r2).epsilon(1e-12));
+  CHECK(lim.smax(0) == doctest::Approx(1 + 0.05 / r2).epsilon(1e-12));
+  CHECK(lim.smin(1) == -kInf);
+  CHECK(lim.smax(1) == kInf);
+  StrainLimitValues v = compute_strain_limit_values(spec, svd);
+  CHECK(v.C[strain_limit_index(0, 0, 1)] == doctest::Approx(0.05 - 0.05 * r2).epsilon(1e-12));
+  CHECK(worst_strain_violation(spec, F) < 0);
+
+  spec.mode = StrainLimitMode::Orthogonal;
+  lim = compute_projected_strain_limits(spec, svd);
+  CHECK(lim.smin(0) == doctest::Approx(1 - 0.05 * r2).epsilon(1e-12));
+  CHECK(lim.smax(0) == doctest::Approx(1 + 0.05 * r2).epsilon(1e-12));
+  CHECK(lim.smin(1) == doctest::Approx(1).epsilon(1e-12));
+  CHECK(lim.smax(1) == doctest::Approx(1).epsilon(1e-12));
+  v = compute_strain_limit_values(spec, svd);
+  CHECK(v.C[strain_limit_index(0, 0, 1)] == doctest::Approx(0.05 * r2 - 0.05).epsilon(1e-12));
+  CHECK(v.C[strain_limit_index(1, 0, 1)] == doctest::Approx(-0.01).epsilon(1e-12));
+  CHECK(worst_strain_violation(spec, F) == doctest::Approx(0.05 - 0.05 * r2).epsilon(1e-12));
+
+  spec.mode = StrainLimitMode::Linear;
+  lim = compute_projected_strain_limits(spec, svd);
+  CHECK(lim.smin(0) == doctest::Approx(0.95 * r2).epsilon(1e-12));
+  CHECK(lim.smax(0) == kInf);
+}
+
+TEST_CASE("strain limit: the paper's vertical beam freezes under orthogonal projection") {
+  // Sec. 5.2: x limited to [0.95, 1.05], y (vertical) and z free; the beam sags: F = diag(1.01,
+  // 0.9, 1.03), principal axes aligned with the global ones. Hyperbolic: only x is limited,
+  // C = (0.06, 0.04), worst -0.04. Orthogonal: y and z get [1, 1], so the 10 % compression
+  // already violates by 0.1.
+  const Mat3 F = Vec3(1.01, 0.9, 1.03).asDiagonal();
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.95, 0, 0);
+  spec.smax = Vec3(1.05, kInf, kInf);
+  spec.mode = StrainLimitMode::Hyperbolic;
+  CHECK(worst_strain_violation(spec, F) == doctest::Approx(-0.04).epsilon(1e-12));
+  spec.mode = StrainLimitMode::Orthogonal;
+  CHECK(worst_strain_violation(spec, F) == doctest::Approx(0.1).epsilon(1e-12));
+}
+
+TEST_CASE("strain limit: only near-active rows, plus the kept ones, are returned") {
+  Tet tet;
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.9, 0.8, 0.95);
+  spec.smax = Vec3(1.1, 1.3, 1.05);
+  std::mt19937 rng(2);
+  spec.frame = random_rotation(rng);
+  const Mat3 F =
+      random_rotation(rng) * Vec3(1.08, 1.0, 0.93).asDiagonal() * random_rotation(rng).transpose();
+  const StrainLimitValues v = values(spec, F);
+  const double margin = 0.02;
+  const uint32_t keep = 1u << strain_limit_index(1, 1, 1);
+  StrainLimitRows rows;
+  evaluate_strain_limit(spec, F, tet.dN_dX, margin, keep, rows);
+  uint32_t expected = 0;
+  for (int k = 0; k < kStrainLimitCount; ++k)
+    if ((v.present >> k & 1u) && (v.C[k] < margin || (keep >> k & 1u))) expected |= 1u << k;
+  uint32_t got = 0;
+  for (int r = 0; r < rows.count; ++r) {
+    got |= 1u << rows.row[r].index;
+    CHECK(rows.row[r].value == v.C[rows.row[r].index]);
+    if (r > 0) CHECK(rows.row[r].index > rows.row[r - 1].index);
+  }
+  CHECK(got == expected);
+  CHECK(popcount(expected) > 1);
+  CHECK(popcount(expected) < popcount(v.present));
+}
+
+TEST_CASE("strain limit: rows stay finite at rest, at repeated and at zero singular values") {
+  // Behaviour: values are exact everywhere; the Jacobian's dV part uses the clamped coupling
+  // of svd_derivative.hpp with gap kStrainLimitGapTolerance = 1e-3, so |dV/dF(r, c)| entries
+  // are at most 2 / eps and each row is bounded by
+  //   |dC/dF(r, c)| <= |p| + |dV e_i| |M q| <= 1 + sqrt(6) (2 / eps) |q|.
+  // At rest the hyperbolic Jacobian has q = (s_i - 1) sign = 0: exactly a_ij u_i v_i^T.
+  Tet tet;
+  std::mt19937 rng(6);
+  const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+  const Mat3 cases[] = {
+      Mat3::Identity(),
+      Q1 * Vec3(1.03, 1.03, 0.98).asDiagonal() * Q2.transpose(),
+      Q1 * Vec3(1.03, 1.03 - 1e-9, 0.98).asDiagonal() * Q2.transpose(),
+      Q1 * Vec3(0.97, 0.97, 0.97).asDiagonal() * Q2.transpose(),
+      Q1 * Vec3(1.0, 0.0, 0.0).asDiagonal() * Q2.transpose(),
+      Q1 * Vec3(1.0, 0.5, -0.5).asDiagonal() * Q2.transpose(),
+      Mat3::Zero(),
+  };
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.95, 0.75, 0.98);
+  spec.smax = Vec3(1.05, 1.25, 1.02);
+  spec.frame = random_rotation(rng);
+  const double eps = kStrainLimitGapTolerance * 1.03;
+  for (StrainLimitMode mode : kModes) {
+    spec.mode = mode;
+    for (const Mat3& F : cases) {
+      StrainLimitRows rows;
+      evaluate_strain_limit(spec, F, tet.dN_dX, kInf, 0, rows);
+      CHECK(rows.count > 0);
+      CHECK(std::isfinite(worst_strain_violation(spec, F)));
+      const double q_max = 1.25 * 1.25 / 0.5 + 2;  // a generous bound on |q| for these cases
+      const double bound = (1 + std::sqrt(6.0) * 2 / eps * q_max) * 3 * tet.dN_dX.norm();
+      for (int r = 0; r < rows.count; ++r) {
+        REQUIRE(std::isfinite(rows.row[r].value));
+        REQUIRE(rows.row[r].jac.allFinite());
+        CHECK(rows.row[r].jac.norm() <= bound);
+      }
+    }
+  }
+  // At rest, hyperbolic: dC/dx_a = +-a_ij (u_i v_i^T) dN_a, no rotation term.
+  spec.mode = StrainLimitMode::Hyperbolic;
+  const RotationVariantSvd rest = compute_rotation_variant_svd(Mat3::Identity());
+  StrainLimitRows rows;
+  evaluate_strain_limit(spec, Mat3::Identity(), tet.dN_dX, kInf, 0, rows);
+  const Mat3 c = rest.V.transpose() * spec.frame;
+  for (int r = 0; r < rows.count; ++r) {
+    const int k = rows.row[r].index, i = k / 6, j = (k % 6) / 2;
+    const double sign = k % 2 == 0 ? 1.0 : -1.0;
+    const Mat3 G = sign * std::abs(c(i, j)) * rest.U.col(i) * rest.V.col(i).transpose();
+    for (int a = 0; a < 4; ++a)
+      CHECK((rows.row[r].jac.segment<3>(3 * a) - G * tet.dN_dX.row(a).transpose()).norm() < 1e-12);
+  }
+}
