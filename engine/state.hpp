@@ -28,6 +28,8 @@ struct State {
   SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
   std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from
                                      // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T
+  std::vector<std::pair<int, Eigen::Matrix<double, 12, 12>>> curvature_blocks;  // per tet with
+                                     // strain rows: h sum lambda_i K_i (strain_limit_curvature.hpp)
   bool factor_curved = false;        // the last factorisation included curvature
   bool factor_exact = false;         // the solver holds exactly this step's A (solve)
   int factor_age = 0;                // steps since the last factorisation (solve)

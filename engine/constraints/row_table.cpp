@@ -12,6 +12,7 @@ const char* row_kind_name(RowKind kind) {
 void RowTable::clear() {
   kind.clear(), value.clear(), lo.clear(), hi.clear(), normal_row.clear(), mu.clear();
   key.clear(), element.clear(), curvature.clear(), nodes.clear(), jac.clear(), lambda.clear();
+  curvature_block.clear(), curvature_blocks.clear();
   begin.assign(1, 0);
 }
 
@@ -25,6 +26,7 @@ int RowTable::add_row(RowKind k, double c, double lower, double upper, uint64_t 
   key.push_back(identity);
   element.push_back(-1);
   curvature.push_back(0);
+  curvature_block.push_back(-1);
   lambda.push_back(0);
   begin.push_back(static_cast<int>(nodes.size()));
   return size() - 1;

@@ -29,6 +29,10 @@ struct RowTable {
   // (energy limits); rows with element -1 are treated as linear (Gauss-Newton).
   std::vector<int> element;
   std::vector<double> curvature;
+  // Or an explicit matrix over the element's first 12 coordinates (tet rows): index into
+  // curvature_blocks, -1 for none.
+  std::vector<int> curvature_block;
+  std::vector<Eigen::Matrix<double, 12, 12>> curvature_blocks;
   std::vector<int> begin{0};          // rows + 1: stencil range in nodes / jac
   std::vector<int> nodes;             // global node per stencil entry
   std::vector<Vec3> jac;              // dC_i / dx_node per stencil entry

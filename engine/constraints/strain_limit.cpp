@@ -104,8 +104,10 @@ void collect_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, T
         if (has_max(hi(j))) tight_hi = std::min(tight_hi, hi(j));
       }
       for (int i = 0; i < 3; ++i) {
-        if (tight_lo > -kInf) out.add(strain_limit_index(i, 0, 0), i, s(i) - tight_lo, 1.0, Vec3::Zero());
-        if (tight_hi < kInf) out.add(strain_limit_index(i, 0, 1), i, tight_hi - s(i), -1.0, Vec3::Zero());
+        if (tight_lo > -kInf)
+          out.add(strain_limit_index(i, 0, 0), i, s(i) - tight_lo, 1.0, Vec3::Zero());
+        if (tight_hi < kInf)
+          out.add(strain_limit_index(i, 0, 1), i, tight_hi - s(i), -1.0, Vec3::Zero());
       }
       break;
     }

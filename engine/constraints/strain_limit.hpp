@@ -48,9 +48,12 @@
 //   dC/dF = p ds_i/dF + sum_j q_j dc_ij/dF,  ds_i/dF = u_i v_i^T (eq. 13),
 //   dc_ij/dF(r, c) = (dV/dF(r, c) e_i) . m_j with dV from Papadopoulo-Lourakis
 //   (engine/math/svd_derivative.hpp; eqs. 14-16), and per mode
-//     Hyperbolic  min: p = a_ij, q_j = sign(c_ij) (s_i - 1)    (eq. 17); max: both negated (eq. 18)
-//     Orthogonal  min: p = 1, q_j = -sign(c_ij) (smin_j - 1);  max: p = -1, q_j = sign(c_ij) (smax_j - 1)
-//     Linear      min: p = 1, q_j = -smin_j^2 c_ij / L_i;     max: p = -1, q_j = smax_j^2 c_ij / L_i
+//     Hyperbolic  min: p = a_ij, q_j = sign(c_ij) (s_i - 1)     (eq. 17)
+//                 max: p = -a_ij, q_j = -sign(c_ij) (s_i - 1)   (eq. 18)
+//     Orthogonal  min: p = 1, q_j = -sign(c_ij) (smin_j - 1)
+//                 max: p = -1, q_j = sign(c_ij) (smax_j - 1)
+//     Linear      min: p = 1, q_j = -smin_j^2 c_ij / L_i(smin)
+//                 max: p = -1, q_j = smax_j^2 c_ij / L_i(smax)
 //     Isotropic   p = +-1, q = 0.
 //   sign(0) = 0 (a subgradient of |c| at its kink); L_i <= 1e-12 gives q = 0.
 // Near repeated singular values dV is regularised (svd_derivative.hpp), here with a wider

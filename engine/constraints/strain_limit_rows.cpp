@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "engine/assembly/element_kernels.hpp"
+#include "engine/constraints/strain_limit_curvature.hpp"
 
 namespace sinew {
 
@@ -71,6 +72,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     if (is_limited(model, e) && (worst[e] > -margin || has_kept)) candidates.push_back(e);
   }
   std::vector<StrainLimitRows> found(candidates.size());
+  std::vector<std::array<Mat12, kStrainLimitCount>> curvature(candidates.size());
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
     const int e = candidates[i];
     const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
@@ -78,14 +80,25 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     const uint32_t mask = (it != kept.end() && it->first == e) ? it->second : 0u;
     const StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    evaluate_strain_limit(spec, tet_deformation_gradient(model, x, e), dN_dX, margin, mask, found[i]);
+    const Mat3 F = tet_deformation_gradient(model, x, e);
+    evaluate_strain_limit(spec, F, dN_dX, margin, mask, found[i]);
+    const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+    const Mat3 cosines = svd.V.transpose() * spec.frame;  // c_ij
+    for (int r = 0; r < found[i].count; ++r) {
+      const int k = found[i].row[r].index, axis = k / 6, j = (k / 2) % 3;
+      const double p = spec.mode == StrainLimitMode::Hyperbolic ? std::abs(cosines(axis, j)) : 1.0;
+      curvature[i][r] = compute_strain_limit_curvature(svd, axis, k % 2 == 1, p, dN_dX);
+    }
   });
   // Rows in element order: the table does not depend on the thread count.
   for (size_t i = 0; i < candidates.size(); ++i) {
     const int e = candidates[i];
     for (int r = 0; r < found[i].count; ++r) {
       const StrainLimitRow& row = found[i].row[r];
-      rows.add_row(RowKind::Strain, row.value, 0.0, 1e300, row_key(RowKind::Strain, e, row.index));
+      const int r_index = rows.add_row(RowKind::Strain, row.value, 0.0, 1e300, row_key(RowKind::Strain, e, row.index));
+      rows.element[r_index] = e;
+      rows.curvature_block[r_index] = static_cast<int>(rows.curvature_blocks.size());
+      rows.curvature_blocks.push_back(curvature[i][r]);
       for (int a = 0; a < 4; ++a) rows.add_entry(model.element_nodes[e][a], row.jac.segment<3>(3 * a));
     }
   }

@@ -73,9 +73,17 @@ MatX delassus(const Model& model, const RowTable& rows, const MatX& Y) {
 // Lagrangian Hessian (lambda is an impulse, hence one h).
 void update_curvature(const Model& model, State& s) {
   s.curvature.assign(model.num_elements, 0.0);
-  for (int i = 0; i < s.rows.size(); ++i)
-    if (s.rows.element[i] >= 0 && s.rows.lambda[i] > 0)
-      s.curvature[s.rows.element[i]] += model.h * s.rows.lambda[i] * s.rows.curvature[i];
+  s.curvature_blocks.clear();
+  for (int i = 0; i < s.rows.size(); ++i) {
+    if (s.rows.element[i] < 0 || s.rows.lambda[i] <= 0) continue;
+    const double weight = model.h * s.rows.lambda[i];
+    s.curvature[s.rows.element[i]] += weight * s.rows.curvature[i];
+    if (const int b = s.rows.curvature_block[i]; b >= 0) {
+      if (s.curvature_blocks.empty() || s.curvature_blocks.back().first != s.rows.element[i])
+        s.curvature_blocks.push_back({s.rows.element[i], Eigen::Matrix<double, 12, 12>::Zero()});
+      s.curvature_blocks.back().second += weight * s.rows.curvature_blocks[b];
+    }
+  }
 }
 
 }  // namespace
@@ -180,6 +188,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     profile.skipped[static_cast<int>(Stage::Pgs)] = s.rows.size() ? "no row violated" : "no near-active constraint";
     s.warm_start.clear();
     s.curvature.clear();
+    s.curvature_blocks.clear();
   }
   for (int kind = 0; kind < kRowKindCount; ++kind)
     if (const int n = s.rows.count(static_cast<RowKind>(kind))) profile.rows[row_kind_name(static_cast<RowKind>(kind))] = n;

@@ -12,10 +12,16 @@ namespace sinew {
 // contacts and limits costs one factorisation, not one per iteration.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state) {
   state.factor_age = 0;
-  state.factor_curved = std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
+  state.factor_curved = !state.curvature_blocks.empty() ||
+                        std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
   if (state.factor_curved) {
     state.sqp_system = state.system;
     scatter_warped_stiffness(model, state.R, state.curvature, state.sqp_system.valuePtr());
+    Mat24 K = Mat24::Zero();
+    for (const auto& [e, block] : state.curvature_blocks) {
+      K.topLeftCorner<12, 12>() = block;
+      scatter_element_matrix(model, e, K, 1.0, state.sqp_system.valuePtr());
+    }
   }
   return solver.factorize(state.factor_curved ? state.sqp_system : state.system);
 }
