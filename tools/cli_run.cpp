@@ -133,13 +133,16 @@ int run_command(int argc, char** argv) {
   World world(build_model(scene, warn), initial_velocities(scene));
   const Model& model = world.model();
   if (!quiet) {
-    std::printf("scene '%s': %zu bodies, %d hex elements, %d nodes, %d free DOFs, h = %g s, %d steps/frame\n",
+    std::printf("scene '%s': %zu bodies, %d elements, %d nodes, %d free DOFs, h = %g s, %d steps/frame\n",
                 model.scene_name.c_str(), model.bodies.size(), model.num_elements, model.num_nodes,
                 3 * model.num_free, model.h, scene.steps_per_frame());
-    for (const Body& b : model.bodies)
-      std::printf("  body '%s': %d cells of %g m, %d nodes, surface %zu vertices / %zu triangles\n",
-                  b.name.c_str(), b.num_elements(), b.lattice.cell_size, b.num_nodes(),
+    for (const Body& b : model.bodies) {
+      const bool tets = b.element_type == ElementType::Tet4;
+      std::printf("  body '%s': %d %s of size %g m%s, %d nodes, %s, surface %zu vertices / %zu triangles\n",
+                  b.name.c_str(), b.num_elements(), tets ? "tets" : "hex cells", b.lattice.cell_size,
+                  "", b.num_nodes(), b.hyperelastic ? b.hyperelastic->name() : "linear corotational",
                   b.rest_surface.vertices.size(), b.rest_surface.triangles.size());
+    }
   }
 
   Exporter exporter{opts.get("--export-obj"), opts.get("--export-vtu"), {}};

@@ -77,8 +77,11 @@ int cell_octant(const Body& body, int vertex) {
   return (d.x() > 0) * 4 + (d.y() > 0) * 2 + (d.z() > 0);
 }
 
-// A contact site is an eighth of a lattice cell.
+// A contact site is an eighth of a lattice cell; in a tet body, the node that carries most
+// of the vertex (the tets around a node share it, so its vertices make one site).
 uint32_t contact_site(const Body& body, int vertex) {
+  if (body.element_type == ElementType::Tet4)
+    return static_cast<uint32_t>(body.lattice.cells[body.embedding.cell[vertex]][cell_octant(body, vertex)]);
   return static_cast<uint32_t>(8 * body.embedding.cell[vertex] + cell_octant(body, vertex));
 }
 

@@ -23,7 +23,16 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
       scatter_element_matrix(model, e, K, 1.0, state.sqp_system.valuePtr());
     }
   }
-  return solver.factorize(state.factor_curved ? state.sqp_system : state.system);
+  if (!state.factor_curved) return solver.factorize(state.system);
+  if (solver.factorize(state.sqp_system)) return true;
+  // A + curvature is PSD-plus-PD in exact arithmetic, but curvature blocks many orders above
+  // A (large multipliers on nearly repeated singular values) can lose a pivot to round-off:
+  // fall back to H = A, which SQP tolerates (it only converges more slowly), and say so.
+  ++state.profile.iterations["curvature_dropped"];
+  state.factor_curved = false;
+  state.curvature.clear();
+  state.curvature_blocks.clear();
+  return solver.factorize(state.system);
 }
 
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {

@@ -1,0 +1,41 @@
+// Paper 001, fig. 3: a finger (E 2 MPa) pressed onto a table. With anisotropic limits
+// (0.95-1.05 along its length e1, 0.75-1.25 along e2 from pad to nail, 0.98-1.02 across e3)
+// it flattens under a press along e2 but hardly gives when pressed on its side (e3). The
+// test asserts that and that the anisotropy is the limits' doing: the side-to-flat ratio of
+// the anisotropic finger is far below the isotropic one's. (The paper's "isotropic deforms
+// about as much either way" is not what this finger shows: its isotropic side press
+// compresses more than the flat one; the figures are printed.)
+//
+// Deviation: the press is a 200 N load ramped over 0.5 s on the half of the finger away from
+// the table, not a plate driven by a prescribed displacement: a prescribed squeeze of the
+// side beyond the 2 % the limits allow has no solution, a prescribed force always has one.
+#include "paper001_support.hpp"
+
+using namespace sinew;
+using namespace sinew::paper001;
+
+namespace {
+
+// Largest compression 1 - min |F d| along the press direction d after the press.
+double compression(const std::string& press, const std::string& limits, const Vec3& d, int frames) {
+  World world = load_world("paper001_finger_" + press + "_" + limits);
+  for (int f = 0; f < frames; ++f) REQUIRE(world.step());
+  return 1 - stretch_along(world, d).lo;
+}
+
+}  // namespace
+
+TEST_CASE("paper 001 fig. 3: the anisotropic finger resists a side press far more than a flat one") {
+  const int frames = 40;  // the load is fully on after 30
+  const double aniso_flat = compression("flat", "anisotropic", Vec3::UnitY(), frames);
+  const double aniso_side = compression("side", "anisotropic", Vec3::UnitZ(), frames);
+  const double iso_flat = compression("flat", "isotropic", Vec3::UnitY(), frames);
+  const double iso_side = compression("side", "isotropic", Vec3::UnitZ(), frames);
+  MESSAGE("largest compression along the press: anisotropic flat " << aniso_flat << ", side " << aniso_side
+                                                                   << "; isotropic flat " << iso_flat << ", side " << iso_side);
+  // Side: e3 may compress by 2 % (plus the SQP tolerance, 1e-3); flat: e2 allows 25 %, so
+  // the load compresses it as the elasticity dictates, several times more.
+  CHECK(aniso_side <= 0.02 + 1e-3);
+  CHECK(aniso_side < 0.3 * aniso_flat);
+  CHECK(aniso_side / aniso_flat < 0.25 * (iso_side / iso_flat));
+}
