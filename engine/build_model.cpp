@@ -1,7 +1,10 @@
+#include <algorithm>
 #include <bitset>
 #include <cmath>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <map>
+#include <numbers>
 #include <tuple>
 
 #include "engine/collision/mesh_sdf.hpp"
@@ -171,6 +174,12 @@ double element_energy_limit(const BodyDesc& desc, const Vec3& rest_centre) {
 
 }  // namespace
 
+Vec3 DrivenNodes::position(const Vec3& rest, double t) const {
+  const double u = duration > 0 ? std::clamp(t / duration, 0.0, 1.0) : 1.0;
+  const double angle = radians * u * u * (3 - 2 * u);
+  return pivot + Eigen::AngleAxisd(angle, axis) * (rest - pivot);
+}
+
 Model build_model(const SceneDesc& scene, const std::function<void(const std::string&)>& warn) {
   Model model;
   model.scene_name = scene.name;
@@ -277,6 +286,33 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
                          "the region holds no node of the body; expected a region that overlaps it");
       load.node_force = desc.loads[l].force / static_cast<double>(load.nodes.size());
       model.loads.push_back(load);
+    }
+    // Driven nodes: not unknowns (free_index -1, like fixed nodes); a node may belong to one
+    // driven region and must not be fixed.
+    std::vector<int> driven_by(body.num_nodes(), -1);
+    for (size_t d = 0; d < desc.driven.size(); ++d) {
+      const DrivenDesc& dd = desc.driven[d];
+      const std::string path = desc.json_path + ".driven[" + std::to_string(d) + "]";
+      DrivenNodes driven;
+      driven.axis = dd.axis;
+      driven.pivot = dd.pivot;
+      driven.radians = dd.degrees * std::numbers::pi / 180;
+      driven.duration = dd.duration;
+      for (int n = 0; n < body.num_nodes(); ++n) {
+        if (!dd.region.contains(body.lattice.nodes[n])) continue;
+        if (model.free_index[model.num_nodes + n] < 0 && driven_by[n] < 0)
+          throw InputError(where(scene, path) + "node " + std::to_string(n) +
+                           " is also in a 'fixed' region; expected driven and fixed regions that do not overlap");
+        if (driven_by[n] >= 0)
+          throw InputError(where(scene, path) + "node " + std::to_string(n) + " is also in driven[" +
+                           std::to_string(driven_by[n]) + "]; expected driven regions that do not overlap");
+        driven_by[n] = static_cast<int>(d);
+        model.free_index[model.num_nodes + n] = -1;
+        driven.nodes.push_back(model.num_nodes + n);
+      }
+      if (driven.nodes.empty())
+        throw InputError(where(scene, path) + "the region holds no node of the body; expected a region that overlaps it");
+      model.driven.push_back(std::move(driven));
     }
     model.has_hyperelastic = model.has_hyperelastic || body.hyperelastic;
     model.has_strain_limits = model.has_strain_limits || body.strain_limit.enabled;

@@ -48,6 +48,19 @@ struct NodeLoad {
   double ramp_time = 0;
 };
 
+// Nodes on a prescribed rigid rotation (DrivenDesc): solved like fixed nodes (free_index
+// -1, not unknowns of the step), but placed where the motion puts them at the end of the
+// step (solve_newton) and given the step's mean velocity.
+struct DrivenNodes {
+  std::vector<int> nodes;      // global
+  Vec3 axis = Vec3::UnitZ();   // unit
+  Vec3 pivot = Vec3::Zero();
+  double radians = 0;          // total rotation
+  double duration = 0;         // s; 0: the full rotation at once
+  // pivot + Rot(axis, radians s(min(1, t / duration))) (rest - pivot), s(u) = 3u^2 - 2u^3.
+  Vec3 position(const Vec3& rest, double t) const;
+};
+
 struct Model {
   std::string scene_name;
   std::vector<Body> bodies;
@@ -58,13 +71,14 @@ struct Model {
   SolverDesc solver;
   Vec3 gravity = Vec3::Zero();
   std::vector<NodeLoad> loads;
+  std::vector<DrivenNodes> driven;
   double h = 1.0 / 60.0;
 
   int num_nodes = 0;
   VecX rest_x;                                 // 3 * num_nodes, rest positions
   VecX node_mass;                              // num_nodes, lumped mass, kg
   std::vector<int> node_body;                  // num_nodes
-  std::vector<int> free_index;                 // num_nodes: free node index, -1 if fixed
+  std::vector<int> free_index;                 // num_nodes: free node index, -1 if fixed or driven
   int num_free = 0;
 
   int num_elements = 0;

@@ -40,6 +40,13 @@ bool World::step() {
   }
   bool ok = m_model.has_hyperelastic ? solve_newton(m_model, m_solver, s) : solve_velocity(m_model, m_solver, s);
   if (ok) solve_constraints(m_model, m_solver, s);  // times its own sub-stages
+  // Driven nodes are not unknowns of the constraint solve, which leaves them at rest:
+  // give them back the step's prescribed mean velocity (set by solve_newton).
+  if (ok)
+    for (const DrivenNodes& driven : m_model.driven)
+      for (int n : driven.nodes)
+        s.v.segment<3>(3 * n) = (driven.position(m_model.rest_x.segment<3>(3 * n), s.t + m_model.h) -
+                                 x0.segment<3>(3 * n)) / m_model.h;
   if (ok) {
     StageTimer timer(s.profile, Stage::Integrate);
     integrate_positions(m_model, s);

@@ -64,6 +64,19 @@ struct LoadDesc {
   double ramp_time = 0;
 };
 
+// Nodes moved along a prescribed rigid rotation (kinematic boundary, e.g. paper 003's
+// elbow): the nodes whose rest position lies in `region` go to
+//   pivot + Rot(axis, angle(t)) (X - pivot),  angle(t) = degrees * s(min(1, t / duration)),
+// s(u) = 3 u^2 - 2 u^3 (zero angular velocity at both ends of the ramp), then stay there.
+// Hyperelastic (Newton) bodies only.
+struct DrivenDesc {
+  RegionDesc region;
+  Vec3 axis = Vec3::UnitZ();       // unit
+  Vec3 pivot = Vec3::Zero();       // m
+  double degrees = 0;              // total rotation, right-handed about axis
+  double duration = 0;             // s, >= 0; 0: the full rotation from the first step
+};
+
 struct BodyDesc {
   std::string json_path;   // e.g. "bodies[0]", for later error messages
   std::string name;
@@ -89,6 +102,7 @@ struct BodyDesc {
   EnergyLimitDesc energy_limit;
   StrainLimitDesc strain_limit;    // tet bodies only
   std::vector<LoadDesc> loads;
+  std::vector<DrivenDesc> driven;  // hyperelastic bodies only
 };
 
 // Scripted motion of a kinematic obstacle: a pure translation of its reference point (the

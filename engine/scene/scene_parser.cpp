@@ -375,7 +375,7 @@ Primitive parse_primitive(const Node& node) {
 }
 
 // Absolute, normalised path of an existing, readable mesh file.
-std::string resolve_mesh(const Node& node) {
+std::string resolve_mesh(const Node& node, bool tetgen_base = false) {
   const std::string given = node.string();
   if (given.empty()) node.expected("a non-empty file path");
   fs::path p(given);
@@ -386,6 +386,9 @@ std::string resolve_mesh(const Node& node) {
     node.fail("mesh file '" + given + "' " + problem + " (resolved to '" + resolved.string() +
               "')");
   };
+  // A TetGen mesh may be named by its base name (the readers add .node and .ele).
+  if (tetgen_base && !fs::exists(resolved, ec) && fs::is_regular_file(resolved.string() + ".node", ec))
+    return resolved.string();
   if (!fs::exists(resolved, ec)) fail("not found");
   if (!fs::is_regular_file(resolved, ec)) fail("is not a regular file");
   if (!std::ifstream(resolved)) fail("cannot be read");
@@ -455,7 +458,7 @@ EnergyLimitDesc parse_energy_limit(const Object& o) {
 
 const KeyList kBodyKeys = {"name",     "shape",   "mesh",  "tet_mesh", "elements", "transform",
                            "cell_size", "surface_resolution", "material", "damping", "fixed",
-                           "velocity", "energy_limit", "strain_limit", "loads"};
+                           "velocity", "energy_limit", "strain_limit", "loads", "driven"};
 
 // Exactly one of the geometry keys.
 std::string geometry_key(const Object& o) {
@@ -482,7 +485,7 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
     for (const Node& n : o.require("shape").elements(true))
       b.shape.parts.push_back(parse_primitive(n));
   } else {
-    (geometry == "mesh" ? b.mesh_path : b.tet_mesh_path) = resolve_mesh(o.require(geometry));
+    (geometry == "mesh" ? b.mesh_path : b.tet_mesh_path) = resolve_mesh(o.require(geometry), geometry == "tet_mesh");
     if (o.has("surface_resolution"))
       o.require("surface_resolution")
           .fail("only allowed with 'shape' (a mesh body's surface is its mesh)");
@@ -524,6 +527,23 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
       load.force = l.require("force").vec3();
       l.number("ramp_time", load.ramp_time, kNonNegative);
       b.loads.push_back(load);
+    }
+  }
+  if (auto driven = o.get("driven")) {
+    if (!b.material.hyperelastic())
+      driven->fail("driven nodes need a hyperelastic material model (e.g. \"stable_neo_hookean\" or "
+                   "\"corotational_hyperelastic\"): the linear \"corotational\" step has no coupling to "
+                   "prescribed nodes");
+    for (const Node& n : driven->elements(false)) {
+      const Object d(n, {"box", "half_space", "rotate"});
+      DrivenDesc desc;
+      desc.region = parse_region(d);
+      const Object r(d.require("rotate"), {"axis", "pivot", "degrees", "duration"});
+      desc.axis = r.require("axis").direction();
+      desc.pivot = r.require("pivot").vec3();
+      desc.degrees = r.require("degrees").number();
+      r.number("duration", desc.duration, kNonNegative);
+      b.driven.push_back(desc);
     }
   }
   if (auto e = o.get("strain_limit")) {
@@ -739,11 +759,18 @@ std::string strip_json_prefix(const std::string& what) {
   return s;
 }
 
+// Scenes nest about 7 levels deep. The cap keeps a hostile file from costing memory
+// quadratic in its depth (every open level holds its JSON path) and deep recursion in dump().
+constexpr int kMaxJsonDepth = 64;
+
 json parse_json(const std::string& text, const std::string& source_name) {
   DuplicateKeyFinder duplicates;
   json root;
   try {
-    root = json::parse(text, [&](int, json::parse_event_t event, json& parsed) {
+    root = json::parse(text, [&](int depth, json::parse_event_t event, json& parsed) {
+      if (depth > kMaxJsonDepth)
+        throw InputError(source_name + ": invalid JSON: arrays and objects nested more than " +
+                         std::to_string(kMaxJsonDepth) + " levels deep");
       duplicates.on_event(event, parsed);
       return true;
     });

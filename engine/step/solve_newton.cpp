@@ -11,11 +11,14 @@
 namespace sinew {
 namespace {
 
-// Positions x0 + h v (fixed nodes stay at x0) from free velocities.
-void positions_at(const Model& model, const VecX& x0, const VecX& v_free, VecX& x) {
+// Positions at the end of the step from free velocities: x0 + h v for free nodes, x0 for
+// fixed ones, and driven nodes where their prescribed motion puts them at t_end.
+void positions_at(const Model& model, double t_end, const VecX& x0, const VecX& v_free, VecX& x) {
   x = x0;
   for (int n = 0; n < model.num_nodes; ++n)
     if (const int f = model.free_index[n]; f >= 0) x.segment<3>(3 * n) += model.h * v_free.segment<3>(3 * f);
+  for (const DrivenNodes& driven : model.driven)
+    for (int n : driven.nodes) x.segment<3>(3 * n) = driven.position(model.rest_x.segment<3>(3 * n), t_end);
 }
 
 void gather_free(const Model& model, const VecX& full, VecX& free) {
@@ -28,23 +31,51 @@ bool is_hyperelastic(const Model& model, int e) {
   return model.bodies[model.element_body[e]].hyperelastic != nullptr;
 }
 
-// Sum of the hyperelastic elements' energies at x (+infinity if any is undefined).
-double hyperelastic_energy(const Model& model, const VecX& x) {
-  std::vector<double> energy(model.num_elements, 0.0);
+// Per-element hyperelastic energies at x (+infinity where undefined; 0 for linear elements).
+void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double>& energy) {
+  energy.assign(model.num_elements, 0.0);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (!is_hyperelastic(model, e)) return;
     energy[e] = hyperelastic_element_energy(*model.bodies[model.element_body[e]].hyperelastic,
                                             element_quadrature(model, e), gather_element_nodes(model, x, e));
   });
-  double sum = 0;
-  for (double v : energy) sum += v;  // fixed order: the same sum for any thread count
-  return sum;
 }
 
-// Gradient over free DOFs (dPsi/dx, free nodes only) and, if `values` is not null,
-// h^2 times the projected Hessians scattered into a matrix of the system pattern.
-void hyperelastic_derivatives(const Model& model, const VecX& x, VecX& gradient, double* values) {
+// Energy, gradient and exact (unprojected) Hessian of a hyperelastic element, for the
+// Newton iterations near the solution (see solve_newton); the projected Hessian where the
+// energy is undefined at some point (inverted neo_hookean), as there the exact one is not
+// its Hessian. Same sums as hyperelastic_element_derivatives (hyperelastic_element.hpp).
+double exact_element_derivatives(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
+                                 Vec24& g, Mat24& K) {
+  double energy = 0;
+  g.setZero();
+  K.setZero();
+  Eigen::Matrix<double, 9, 24> B;
+  for (int q = 0; q < quad.points; ++q) {
+    const Mat83& dN = quad.dN_dX[q];
+    Mat3 F = Mat3::Zero();
+    for (int a = 0; a < nodes.count; ++a) F += nodes.x[a] * dN.row(a);
+    if (!material.is_defined(F)) return hyperelastic_element_derivatives(material, quad, nodes, g, &K);
+    energy += quad.weight * material.energy(F);
+    const Mat3 P = material.pk1(F);
+    for (int a = 0; a < nodes.count; ++a) g.segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
+    B.setZero();
+    for (int a = 0; a < nodes.count; ++a)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) B(i + 3 * j, 3 * a + i) = dN(a, j);
+    K.noalias() += quad.weight * (B.transpose() * material.hessian(F) * B);
+  }
+  return energy;
+}
+
+// Per-element energies and squared force norms |dPsi_e/dx|^2, the gradient over free DOFs
+// (dPsi/dx, free nodes only) and, if `values` is not null, h^2 times the element Hessians
+// (projected, or exact if `exact`) scattered into a matrix of the system pattern.
+void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
+                              std::vector<double>& force2, VecX& gradient, double* values) {
   gradient.setZero(3 * model.num_free);
+  energy.assign(model.num_elements, 0.0);
+  force2.assign(model.num_elements, 0.0);
   for (const std::vector<int>& color : model.element_colors) {
     tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
       Vec24 g;
@@ -53,8 +84,11 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, VecX& gradient,
         const int e = color[i];
         if (!is_hyperelastic(model, e)) continue;
         const ElementNodes nodes = gather_element_nodes(model, x, e);
-        hyperelastic_element_derivatives(*model.bodies[model.element_body[e]].hyperelastic,
-                                         element_quadrature(model, e), nodes, g, values ? &K : nullptr);
+        const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
+        const ElementQuadrature quad = element_quadrature(model, e);
+        energy[e] = values && exact ? exact_element_derivatives(material, quad, nodes, g, K)
+                                    : hyperelastic_element_derivatives(material, quad, nodes, g, values ? &K : nullptr);
+        force2[e] = g.squaredNorm();
         for (int a = 0; a < nodes.count; ++a)
           if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0)
             gradient.segment<3>(3 * f) += g.segment<3>(3 * a);
@@ -64,34 +98,68 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, VecX& gradient,
   }
 }
 
+// Round-off of a change of Psi computed as sum_e (Psi_e(x') - Psi_e(x)): each energy
+// density sums terms of size ~(mu + lambda) |F|^2 with |F|^2 ~ 3 near rest, so a difference
+// carries an error of a few eps (mu + lambda) V_e. 32 eps sum_e (mu + lambda) 3 V_e bounds it
+// with room for moderate stretch. Below it the sign of a change of Phi means nothing.
+double energy_noise(const Model& model) {
+  std::vector<double> stiffness(model.bodies.size(), 0.0);
+  for (size_t b = 0; b < model.bodies.size(); ++b) {
+    const Body& body = model.bodies[b];
+    if (!body.hyperelastic) continue;
+    MaterialParameters params;
+    params.young = body.material.E;
+    params.poisson = body.material.nu;
+    const LameParameters lame = lame_parameters(params);
+    stiffness[b] = lame.mu + lame.lambda;
+  }
+  double sum = 0;
+  for (int e = 0; e < model.num_elements; ++e)
+    sum += stiffness[model.element_body[e]] * element_rest_volume(model, e);
+  return 32 * std::numeric_limits<double>::epsilon() * 3 * sum;
+}
+
 }  // namespace
 
 // Backward Euler for hyperelastic bodies as the minimisation of the incremental potential
 // (paper 003, sec. 6), in velocities v over free DOFs, x = x0 + h v:
 //   Phi(v) = 1/2 v^T A0 v - b0^T v + Psi(x0 + h v)
 // A0, b0 (assemble_system) hold mass, mass damping, gravity, applied loads and the linear
-// corotational bodies; Psi sums the hyperelastic elements. Then
-//   grad Phi = A0 v - b0 + h dPsi/dx,   Hess Phi ~= A0 + h^2 (projected d2Psi/dx2).
+// corotational bodies; Psi sums the hyperelastic elements. Driven nodes sit at their
+// prescribed end-of-step positions inside Psi. Then
+//   grad Phi = A0 v - b0 + h dPsi/dx,   Hess Phi = A0 + h^2 d2Psi/dx2.
 // Newton with backtracking (Armijo) line search, from the previous step's velocities, until
 // |grad Phi| <= newton_tolerance max(|grad Phi(v0)|, |b0|, h |dPsi/dx(x0 + h v0)|) or the
-// iteration cap. On exit the system
-// and rhs describe the quadratic model around the result, so solve_constraints treats it
-// like the linear path's v*: state.system = the last Hessian (factorised), rhs = H v - grad.
+// iteration cap.
+//
+// Hessian: projected (each point's d2Psi/dF2 with eigenvalues clamped at 0, paper 003
+// sec. 5), which keeps the system SPD far from equilibrium. Projection also drops the
+// negative curvature that stress gives the rotation modes (zero at rest, slightly negative
+// under load), so projected Newton converges only linearly near the solution (ratio ~0.14
+// per iteration on a hanging beam: 9 iterations for 1e-8 instead of 3). So once a full
+// projected step has decreased Phi as its quadratic model predicted (actual >= half the
+// predicted decrease), the following iterations use the exact Hessian, which converges
+// quadratically; at a minimiser of Phi it is positive semi-definite. Back to projection
+// for the rest of the step if the exact system cannot be factorised, gives no descent
+// direction, or its full step is rejected by the line search.
+//
+// On exit the system and rhs describe the quadratic model around the result, so
+// solve_constraints treats it like the linear path's v*: state.system = the last Hessian
+// (factorised), rhs = H v - grad.
 bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const SolverDesc& cfg = model.solver;
+  const double t_end = state.t + model.h;
   const VecX x0 = state.x;
   const SparseMatrix A0 = state.system;
   const VecX b0 = state.rhs;
-  VecX v, x, dPsi, gradient, direction;
+  const double noise = energy_noise(model);
+  VecX v, x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction;
+  std::vector<double> psi, psi_trial, force2;
   gather_free(model, state.v, v);
 
-  auto potential = [&](const VecX& vv) {
-    positions_at(model, x0, vv, x);
-    return 0.5 * vv.dot(A0 * vv) - b0.dot(vv) + hyperelastic_energy(model, x);
-  };
   int newton = 0, linear = 0;
   double first_norm = -1;
-  bool ok = true, factorised = false;
+  bool ok = true, factorised = false, exact = false;
   SparseMatrix H = A0;
   auto factorize = [&] {
     StageTimer timer(state.profile, Stage::Factorize);
@@ -100,42 +168,109 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     state.factor_exact = !state.factor_curved;
     return factorised;
   };
+  auto assemble = [&] {
+    positions_at(model, t_end, x0, v, x);
+    StageTimer timer(state.profile, Stage::Assemble);
+    H = A0;
+    hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, H.valuePtr());
+  };
   for (;; ++newton) {
-    positions_at(model, x0, v, x);
-    {
-      StageTimer timer(state.profile, Stage::Assemble);
-      H = A0;
-      hyperelastic_derivatives(model, x, dPsi, H.valuePtr());
+    assemble();
+    // Undefined energy (an inverted neo_hookean element) at the warm start: start from the
+    // positions of the step's start instead (v = 0); if the energy is undefined there too,
+    // the step has no incremental potential to minimise and fails.
+    if (newton == 0 && !std::all_of(psi.begin(), psi.end(), [](double p) { return std::isfinite(p); })) {
+      if (v.isZero(0)) {
+        ok = false;
+        break;
+      }
+      v.setZero();
+      assemble();
+      if (!std::all_of(psi.begin(), psi.end(), [](double p) { return std::isfinite(p); })) {
+        ok = false;
+        break;
+      }
     }
-    gradient = A0 * v - b0 + model.h * dPsi;
+    quadratic_gradient = A0 * v - b0;
+    gradient = quadratic_gradient + model.h * dPsi;
     const double norm = gradient.norm();
     if (!std::isfinite(norm)) {
       ok = false;
       break;
     }
-    // Scale of the residual: the larger of the first gradient and the step's momentum and
-    // forces, so that a warm start already near the solution is not asked for a tiny
-    // fraction of an already tiny residual (round-off would stop it first).
-    if (first_norm < 0) first_norm = std::max({norm, b0.norm(), model.h * dPsi.norm()});
+    // Scale of the residual: the largest of the first gradient, the step's momentum and
+    // external forces (b0), and the elements' forces before they cancel at the nodes,
+    // h sqrt(sum_e |dPsi_e/dx|^2). A body at rest under stress (held, driven, loaded) has a
+    // tiny net gradient but large element forces, whose round-off (~eps of them) bounds
+    // how small the assembled gradient can get: measured against the net gradient alone
+    // the tolerance could be unreachable.
+    if (first_norm < 0) {
+      double element_forces = 0;
+      for (double f2 : force2) element_forces += f2;  // fixed order
+      first_norm = std::max({norm, b0.norm(), model.h * std::sqrt(element_forces)});
+    }
     // Converged: the factorisation of the last iterate's Hessian stays (one is made if the
     // start was already converged, for solve_constraints).
     state.profile.violation["newton_residual"] = first_norm > 0 ? norm / first_norm : 0.0;
     if (norm <= cfg.newton_tolerance * first_norm || norm == 0 || newton == cfg.newton_max_iterations) {
       if (!factorised) ok = factorize();
+      if (!ok && exact) {  // the exact Hessian at the result is not SPD: leave a projected one
+        exact = false;
+        assemble();
+        ok = factorize();
+      }
       break;
     }
-    if (!factorize()) {
-      ok = false;
-      break;
+    bool usable = factorize();
+    double slope = 0;
+    if (usable) {
+      StageTimer timer(state.profile, Stage::Solve);
+      direction = VecX::Zero(v.size());
+      linear += solver.solve(-gradient, direction);
+      slope = gradient.dot(direction);
+      usable = slope < 0;
+    }
+    if (!usable) {
+      if (!exact) {
+        ok = false;
+        break;
+      }
+      exact = false;  // redo this iteration with the projected Hessian
+      --newton;
+      continue;
     }
     StageTimer timer(state.profile, Stage::Solve);
-    direction = VecX::Zero(v.size());
-    linear += solver.solve(-gradient, direction);
-    // Backtracking: halve until Phi decreases enough (Armijo, c = 1e-4); an undefined energy
-    // (inverted neo_hookean element) is +infinity and so always rejected.
-    const double phi0 = potential(v), slope = gradient.dot(direction);
+    // Backtracking: halve until Phi decreases enough (Armijo, c = 1e-4). The change of Phi
+    // along the step is formed without subtracting totals, so that it stays accurate when
+    // it is tiny next to Phi itself:
+    //   Phi(v + a d) - Phi(v) = a (A0 v - b0).d + a^2/2 d^T A0 d + sum_e (Psi_e(x') - Psi_e(x)).
+    // An undefined energy (inverted neo_hookean element) is +infinity and always rejected.
+    // Near the solution the predicted decrease -slope = g^T H^-1 g (the Newton decrement
+    // squared) falls below the round-off of the energies (energy_noise): the test would
+    // then reject good steps by noise and stall Newton at a tiny step length. There the
+    // full Newton step is taken (the quadratic model is exact to that precision).
+    A0_direction = A0 * direction;
+    const double linear_term = quadratic_gradient.dot(direction), curvature = direction.dot(A0_direction);
+    auto change_at = [&](double a) {
+      trial = v + a * direction;
+      positions_at(model, t_end, x0, trial, x);
+      hyperelastic_energies(model, x, psi_trial);
+      double change = a * linear_term + 0.5 * a * a * curvature;
+      for (int e = 0; e < model.num_elements; ++e) change += psi_trial[e] - psi[e];  // fixed order
+      return change;
+    };
     double alpha = 1;
-    for (int k = 0; k < 20 && !(potential(v + alpha * direction) <= phi0 + 1e-4 * alpha * slope); ++k) alpha *= 0.5;
+    bool trusted = true;  // the quadratic model predicted this step well
+    if (-slope > noise) {
+      // Predicted decrease of a full step: -(g.d + 1/2 d^T H d) = -slope / 2.
+      double change = change_at(alpha);
+      trusted = change <= 0.25 * slope;
+      int k = 0;
+      while (k < 20 && !(change <= 1e-4 * alpha * slope)) alpha *= 0.5, ++k, change = change_at(alpha);
+      // No acceptable step along a descent direction: Newton cannot progress from here.
+      if (k == 20) break;
+    }
+    exact = alpha == 1 && trusted;
     v += alpha * direction;
   }
   // The quadratic model around v that solve_constraints continues from.
@@ -146,6 +281,12 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       const int f = model.free_index[n];
       state.v.segment<3>(3 * n) = f >= 0 ? Vec3(v.segment<3>(3 * f)) : Vec3::Zero();
     }
+    // Driven nodes move with the step's mean velocity, so that integrate_positions puts
+    // them at their prescribed positions.
+    for (const DrivenNodes& driven : model.driven)
+      for (int n : driven.nodes)
+        state.v.segment<3>(3 * n) =
+            (driven.position(model.rest_x.segment<3>(3 * n), t_end) - x0.segment<3>(3 * n)) / model.h;
   }
   state.profile.iterations["newton"] += newton;
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += linear;
