@@ -262,6 +262,10 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
       model.element_body.push_back(b);
       model.element_reference.push_back(reference);
       model.element_Umax.push_back(element_energy_limit(desc, centre));
+      Mat3 frame = desc.strain_limit.frame;
+      for (const auto& [region, region_frame] : desc.strain_limit.frame_regions)
+        if (region.contains(centre)) frame = region_frame;  // the last region that matches wins
+      model.element_strain_frame.push_back(frame);
     }
     // Colours: the lattice's 8 parity classes for hexes, greedy for tets.
     std::vector<std::vector<int>> colors(8);

@@ -89,6 +89,7 @@ struct Model {
   std::vector<int> element_reference;          // into references (hex8) or tet_references (tet4)
   bool has_hyperelastic = false;               // some body is solved by Newton (solve_newton)
   bool has_strain_limits = false;
+  std::vector<Mat3> element_strain_frame;      // per element: the strain limits' material axes
   std::vector<double> element_Umax;            // energy limit, 0 when the element has none
   // Elements split into colours that share no node, so that each colour can be
   // scattered in parallel without locks and in a fixed order (deterministic sums).

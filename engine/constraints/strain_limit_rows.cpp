@@ -36,7 +36,8 @@ std::vector<double> worst_per_element(const Model& model, const VecX& x) {
   std::vector<double> worst(model.num_elements, -1e300);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (!is_limited(model, e)) return;
-    const StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+    StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+    spec.frame = model.element_strain_frame[e];
     worst[e] = worst_strain_violation(spec, tet_deformation_gradient(model, x, e));
   });
   return worst;
@@ -78,7 +79,8 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
                                      [](auto a, auto b) { return a.first < b.first; });
     const uint32_t mask = (it != kept.end() && it->first == e) ? it->second : 0u;
-    const StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+    StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+    spec.frame = model.element_strain_frame[e];
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
     const Mat3 F = tet_deformation_gradient(model, x, e);
     evaluate_strain_limit(spec, F, dN_dX, margin, mask, found[i]);

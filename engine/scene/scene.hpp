@@ -41,6 +41,9 @@ struct StrainLimitDesc {
   Vec3 smin = Vec3::Zero();
   Vec3 smax = Vec3::Constant(std::numeric_limits<double>::infinity());
   Mat3 frame = Mat3::Identity();     // columns: the material axes in rest (world) coordinates
+  // Per-region frames (e.g. fibres that turn): elements whose rest centre is inside take
+  // the frame of the last region that holds it.
+  std::vector<std::pair<RegionDesc, Mat3>> frame_regions;
   std::string mode = "hyperbolic";   // "hyperbolic", "orthogonal", "linear" or "isotropic"
 };
 

@@ -439,6 +439,12 @@ StrainLimitDesc parse_strain_limit(const Object& o) {
   if (d.mode == "isotropic" && (d.smin.minCoeff() != d.smin.maxCoeff() || d.smax.minCoeff() != d.smax.maxCoeff()))
     o.node().fail("mode \"isotropic\" takes one smin and one smax for all axes");
   if (auto r = o.get("frame_deg")) d.frame = rotation_from_euler_deg(r->vec3());
+  if (auto regions = o.get("frame_regions")) {
+    for (const Node& n : regions->elements(false)) {
+      const Object r(n, {"box", "half_space", "frame_deg"});
+      d.frame_regions.push_back({parse_region(r), rotation_from_euler_deg(r.require("frame_deg").vec3())});
+    }
+  }
   return d;
 }
 
@@ -548,7 +554,7 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
   }
   if (auto e = o.get("strain_limit")) {
     if (b.elements != "tet") e->fail("strain limits need tet elements (set \"elements\": \"tet\" or use 'tet_mesh')");
-    b.strain_limit = parse_strain_limit(Object(*e, {"smin", "smax", "mode", "frame_deg"}));
+    b.strain_limit = parse_strain_limit(Object(*e, {"smin", "smax", "mode", "frame_deg", "frame_regions"}));
   }
   return b;
 }
