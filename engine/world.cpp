@@ -50,7 +50,9 @@ bool World::step() {
   if (ok) {
     StageTimer timer(s.profile, Stage::Integrate);
     integrate_positions(m_model, s);
-    ok = s.x.allFinite() && s.v.allFinite();
+    // Finite but absurd counts as failed too: a diverging solve reaches 1e300 long before
+    // it reaches Inf (seen on a collapsing column before its scene was fixed).
+    ok = s.x.allFinite() && s.v.allFinite() && s.v.lpNorm<Eigen::Infinity>() <= m_model.solver.max_speed;
   }
   if (!ok) {
     // Roll back so that the caller keeps a valid state to report or write.

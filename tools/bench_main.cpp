@@ -56,7 +56,11 @@ std::vector<BenchScene> all_scenes() {
           {"armadillo365", armadillo_scene},
           {"block10k", block10k_scene},
           // Paper 000, fig. 6: ~365 hex, energy limits (100 J) and ground contact.
-          {"creature365", [] { return scene_file("assets/scenes/paper000_creature_500kPa_U100.json"); }}};
+          {"creature365", [] { return scene_file("assets/scenes/paper000_creature_500kPa_U100.json"); }},
+          // Paper 001: the fig. 2 beam (240 tets) and the fig. 3 finger pressed on its side
+          // (324 tets, hundreds of active strain limits and ground contact).
+          {"beam240tet", [] { return scene_file("assets/scenes/paper001_beam_5kPa_anisotropic.json"); }},
+          {"finger324", [] { return scene_file("assets/scenes/paper001_finger_side_anisotropic.json"); }}};
 }
 
 nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const std::string& linear) {
@@ -108,7 +112,7 @@ int main(int argc, char** argv) {
     else if (arg == "--linear") linear = next();
     else {
       std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--out FILE]\n"
-                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k, creature365\n");
+                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k, creature365, beam240tet, finger324\n");
       return arg == "--help" ? 0 : 2;
     }
   }

@@ -174,7 +174,8 @@ int run_command(int argc, char** argv) {
   if (!quiet) print_summary(stats, wall_s, world.state().t);
   if (!finite) {
     std::fprintf(stderr,
-                 "error: the simulation met a NaN/Inf or a singular system at t = %.4f s and stopped;\n"
+                 "error: the simulation met a NaN/Inf, a singular system or a node faster than solver.max_speed\n"
+                 "       at t = %.4f s and stopped;\n"
                  "       outputs hold the last valid state (frame %zu)\n",
                  world.state().t, stats.size() - 1);
     return 3;

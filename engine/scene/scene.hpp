@@ -162,6 +162,7 @@ struct SolverDesc {
   double contact_tolerance = 1e-4; // m, deepest penetration SQP accepts
   double contact_margin = -1;      // m, rows for vertices nearer than this; < 0: a quarter of the body's cell size
   double body_friction = 0.5;      // Coulomb mu between two bodies
+  double max_speed = 1e4;          // m/s: a step that makes any node faster diverged (rolled back, run stops)
   double strain_tolerance = 1e-3;  // worst strain-limit violation (stretch) SQP accepts
   double strain_activation_margin = 0.005;  // rows for constraints with C < this (stretch, predicted)
   // Newton on the incremental potential (hyperelastic bodies, paper 003).

@@ -645,6 +645,7 @@ SolverDesc parse_solver(const Object& o) {
   o.number("contact_margin", s.contact_margin, kNonNegative);
   o.number("body_friction", s.body_friction, kNonNegative);
   o.number("strain_tolerance", s.strain_tolerance, kPositive);
+  o.number("max_speed", s.max_speed, kPositive);
   o.number("strain_activation_margin", s.strain_activation_margin, kNonNegative);
   o.integer("newton_max_iterations", s.newton_max_iterations, kPositive);
   o.number("newton_tolerance", s.newton_tolerance, kPositive);
@@ -655,7 +656,7 @@ const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_ite
                              "pgs_max_iterations", "pgs_tolerance", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
                              "contact_margin", "body_friction", "sqp_position_tolerance",
-                             "refactor_interval", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
+                             "refactor_interval", "max_speed", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
                              "newton_tolerance"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",
                             "frames", "solver",  "bodies", "obstacles"};

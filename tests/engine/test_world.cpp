@@ -106,3 +106,17 @@ TEST_CASE("the same scene run twice gives the same state hash") {
   };
   CHECK(run() == run());
 }
+
+TEST_CASE("world: a step that makes a node faster than solver.max_speed fails and rolls back") {
+  // Free fall reaches 1 m/s after ~0.1 s: with max_speed 1 the step that crosses it fails.
+  const SceneDesc scene = parse_scene_text(R"({"h": 0.01, "solver": {"max_speed": 1.0},
+    "bodies": [{"name": "box", "shape": [{"type": "box", "half_extents": [0.1, 0.1, 0.1]}],
+      "cell_size": 0.1, "material": {"E": 1e5, "nu": 0.3, "rho": 500}}]})", "fall", ".");
+  World world(build_model(scene, [](const std::string&) {}));
+  int steps = 0;
+  while (world.step()) ++steps;
+  CHECK(steps == 10);  // v = 9.81 * 0.10 = 0.981 m/s still allowed; 0.11 s gives 1.08
+  CHECK(world.state().t == doctest::Approx(0.10));
+  CHECK(world.state().v.lpNorm<Eigen::Infinity>() <= 1.0);
+  CHECK_FALSE(world.profile().finite);
+}
