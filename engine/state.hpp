@@ -24,6 +24,8 @@ struct State {
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
+  MatX dense_inverse;                // H^-1 as a dense matrix, when rows outnumber DOFs (constraints)
+  bool dense_inverse_valid = false;  // dense_inverse matches the solver's factorisation
   MatX constraint_dirs;              // 3 * free x rows: J^T, then A^-1 J^T (constraints, scratch)
   SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
   std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from

@@ -158,7 +158,19 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
           if (f >= 0) Jt.block<3, 1>(3 * f, i) = s.rows.jac[e];
         }
       MatX& Y = s.constraint_dirs;
-      solver.solve_many(Jt, Y);
+      const int n = 3 * model.num_free;
+      if (2 * m > n) {
+        // Many rows (strain limits: up to 18 per tet) on few DOFs: one dense H^-1 per
+        // factorisation (n solves), then Y = H^-1 J^T over J's 12 non-zeros per row, is
+        // cheaper than m solves at every SQP iteration.
+        if (!s.dense_inverse_valid) {
+          solver.solve_many(MatX::Identity(n, n), s.dense_inverse);
+          s.dense_inverse_valid = true;
+        }
+        Y = s.dense_inverse * Jt.sparseView();
+      } else {
+        solver.solve_many(Jt, Y);
+      }
       const MatX W = delassus(model, s.rows, Y);
       solve_timer.stop();
       StageTimer pgs_timer(profile, Stage::Pgs);
