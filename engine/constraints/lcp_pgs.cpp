@@ -18,19 +18,28 @@ void bounds_of(const RowTable& rows, const VecX& lambda, int i, double& lo, doub
 
 }  // namespace
 
+// w = W lambda + c is kept up to date as lambda changes (a column update per change), so a
+// row that stays clamped (most inactive strain and contact rows) costs O(1) per sweep
+// instead of O(m). w is recomputed from scratch every kRefresh sweeps against drift.
 PgsResult solve_pgs(const MatX& W, const VecX& c, RowTable& rows, int max_iterations, double tolerance) {
+  constexpr int kRefresh = 16;
   const int m = rows.size();
   VecX lambda = Eigen::Map<const VecX>(rows.lambda.data(), m);
+  VecX w(m);
   PgsResult result;
   for (int it = 0; it < max_iterations; ++it) {
+    if (it % kRefresh == 0) w.noalias() = W * lambda + c;
     double largest_change = 0, largest = 0;
     for (int i = 0; i < m; ++i) {
       double lo, hi;
       bounds_of(rows, lambda, i, lo, hi);
-      const double w = W.col(i).dot(lambda) + c[i];  // W symmetric: column = row
-      const double updated = std::clamp(lambda[i] - w / W(i, i), lo, hi);
-      largest_change = std::max(largest_change, std::abs(updated - lambda[i]));
-      lambda[i] = updated;
+      const double updated = std::clamp(lambda[i] - w[i] / W(i, i), lo, hi);
+      const double change = updated - lambda[i];
+      if (change != 0) {
+        w += W.col(i) * change;  // W symmetric: column i = row i
+        lambda[i] = updated;
+      }
+      largest_change = std::max(largest_change, std::abs(change));
       largest = std::max(largest, std::abs(updated));
     }
     result.iterations = it + 1;
