@@ -4,6 +4,7 @@
 // truncated or garbled record be reported on its own line.
 #include "engine/geometry/gmsh_reader.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -66,6 +67,12 @@ struct Lines {
 
   InputError error(const std::string& what) const {
     return InputError(path + ":" + std::to_string(line) + ": " + what);
+  }
+
+  // `count` capped by the lines left (2 bytes each at least): what to reserve for `count`
+  // records, so that a forged count does not reserve gigabytes.
+  std::size_t at_most_lines(long count) const {
+    return std::min(std::size_t(count), std::size_t(end - p) / 2);
   }
 
   // The next line, which must exist: `what` names the record expected there.
@@ -158,7 +165,7 @@ struct Reader {
     in.require_next("the number of nodes");
     in.require_tokens(1, "'<number of nodes>'");
     const long n = in.count(0, "the number of nodes");
-    mesh.nodes.reserve(std::size_t(n));
+    mesh.nodes.reserve(in.at_most_lines(n));
     for (long i = 0; i < n; ++i) {
       in.require_next("node " + std::to_string(i + 1) + " of " + std::to_string(n));
       in.require_tokens(4, "'<tag> <x> <y> <z>'");
@@ -175,7 +182,7 @@ struct Reader {
     in.require_tokens(4, "'<blocks> <nodes> <min tag> <max tag>'");
     const long blocks = in.count(0, "the number of entity blocks");
     const long total = in.count(1, "the number of nodes");
-    mesh.nodes.reserve(std::size_t(total));
+    mesh.nodes.reserve(in.at_most_lines(total));
     for (long b = 0; b < blocks; ++b) {
       in.require_next("node block " + std::to_string(b + 1) + " of " + std::to_string(blocks));
       in.require_tokens(4, "a node block header '<dim> <entity tag> <parametric> <count>'");

@@ -108,7 +108,7 @@ TriMesh read_obj(const std::string& path) {
           throw fail("expected a vertex index (nonzero integer) in 'f', got '" + std::string(tok) + "'");
         if (idx < 0) {
           // Relative to the vertices read so far: -1 is the latest one.
-          if (-idx > n_known)
+          if (idx < -n_known)  // not -idx > n_known: -LONG_MIN overflows
             throw fail("face index " + std::to_string(idx) + " is out of range (" +
                        std::to_string(n_known) + " vertices so far)");
           idx = n_known + idx + 1;

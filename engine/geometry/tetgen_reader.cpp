@@ -2,6 +2,7 @@
 // tokens by hand with std::from_chars, as the OBJ reader does.
 #include "engine/geometry/tetgen_reader.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -112,7 +113,9 @@ NodeFile read_node_file(const std::string& path) {
   const std::size_t n_tokens = std::size_t(4 + n_attributes + n_markers);
 
   NodeFile out;
-  out.nodes.reserve(std::size_t(count));
+  // Reserve no more than the file can hold (a point's line is 8 bytes, "0 0 0 0\n", or more):
+  // a forged count must not reserve gigabytes.
+  out.nodes.reserve(std::min(std::size_t(count), data.size() / 8));
   for (long i = 0; i < count; ++i) {
     if (!in.next())
       throw in.error("expected " + std::to_string(count) +
@@ -164,8 +167,10 @@ void read_ele_file(const std::string& path, const NodeFile& nodes, TetMesh& mesh
   const std::size_t n_tokens = std::size_t(1 + per_tet + n_attributes);
   const long n_nodes = long(nodes.nodes.size());
 
-  mesh.tets.reserve(std::size_t(count));
-  lines.reserve(std::size_t(count));
+  // Reserve no more than the file can hold (a tet's line is 10 bytes, "0 0 1 2 3\n", or more).
+  const std::size_t capacity = std::min(std::size_t(count), data.size() / 10);
+  mesh.tets.reserve(capacity);
+  lines.reserve(capacity);
   for (long i = 0; i < count; ++i) {
     if (!in.next())
       throw in.error("expected " + std::to_string(count) +

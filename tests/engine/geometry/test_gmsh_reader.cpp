@@ -260,3 +260,15 @@ TEST_CASE("gmsh_reader: errors name the file, the line and what was expected") {
     CHECK(starts_with(what, temp_path("flat") + ":21: expected a tetrahedron of nonzero volume"));
   }
 }
+
+// The count of a $Nodes header is checked against the file, not reserved up front: a forged
+// 2^31 - 1 would reserve about 50 GB (the same bug tools/fuzz found in the TetGen reader).
+TEST_CASE("gmsh_reader: a forged node count is an error, not a huge allocation") {
+  const std::string v22 = "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2147483647\n1 0 0 0\n";
+  CHECK(starts_with(read_error("big22", v22),
+                    temp_path("big22") + ":6: expected node 2 of 2147483647, found the end of the file"));
+  const std::string v41 =
+      "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 2147483647 1 2147483647\n3 1 0 1\n1\n0 0 0\n$EndNodes\n";
+  CHECK(contains(read_error("big41", v41),
+                 "expected 2147483647 nodes as the section header says, the blocks hold 1"));
+}

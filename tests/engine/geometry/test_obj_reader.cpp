@@ -157,3 +157,10 @@ TEST_CASE("obj_reader: armadillo") {
   CHECK(m.triangles.size() == 86482);
   CHECK(count_open_edges(m) == 0);
 }
+
+// Found by tools/fuzz (fuzz_obj_reader): negating the index -2^63 overflowed (UBSan).
+TEST_CASE("obj_reader: the most negative face index is out of range, not undefined behaviour") {
+  const std::string what =
+      read_error("longmin", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -9223372036854775808\n");
+  CHECK(starts_with(what, temp_path("longmin") + ":4: face index -9223372036854775808 is out of range"));
+}

@@ -229,3 +229,15 @@ TEST_CASE("tetgen_reader: shared meshes bunny_5, cube_10, cube_20") {
     }
   }
 }
+
+// Found by tools/fuzz (fuzz_tetgen_reader): a header announcing 2^31 - 1 points or tets
+// reserved that many (about 50 GB) before the file ran out.
+TEST_CASE("tetgen_reader: a forged count in a header is an error, not a huge allocation") {
+  const std::string node = "4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n";
+  CHECK(starts_with(read_error("bignode", "2147483647\n", "1\n1 1 2 3 4\n"),
+                    temp_base("bignode") + ".node:1: expected 2147483647 points as the header says, "
+                                           "the file ends after 0"));
+  CHECK(starts_with(read_error("bigele", node, "2147483647 4 0\n1 1 2 3 4\n"),
+                    temp_base("bigele") + ".ele:2: expected 2147483647 tetrahedra as the header says, "
+                                          "the file ends after 1"));
+}

@@ -624,3 +624,17 @@ TEST_CASE("scene parser: load_scene errors name the file") {
   }
   fs::remove_all(dir);
 }
+
+// Found by tools/fuzz (fuzz_scene_parser): a 400 KB file of nested brackets took over 2 GB
+// (every open level kept its JSON path, so memory grew with the square of the depth).
+TEST_CASE("scene parser: deeply nested JSON is an error") {
+  const int depth = 100000;
+  const std::string deep = std::string(depth, '[') + std::string(depth, ']');
+  CHECK(error_of_text(R"({"bodies": )" + deep + "}") ==
+        "test.json: invalid JSON: arrays and objects nested more than 64 levels deep");
+  CHECK(error_of_text(R"({"name": )" + deep + R"(, "bodies": []})") ==
+        "test.json: invalid JSON: arrays and objects nested more than 64 levels deep");
+  // 64 levels still parse (and fail on the schema instead).
+  const std::string ok = std::string(63, '[') + std::string(63, ']');
+  CHECK(contains(error_of_text(R"({"name": )" + ok + R"(, "bodies": []})"), "name: expected a string"));
+}

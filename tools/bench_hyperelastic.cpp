@@ -1,0 +1,138 @@
+// sinew_bench_hyperelastic: paper 003, section 5 of issue 6. Stable Neo-Hookean drops of the
+// shared TetGen meshes bunny_5 (5,266 tets) and cube_20 (13,200 tets) onto a ground plane,
+// h = 1/60 s, E = 5e5 Pa, nu = 0.45, rho = 1000 kg/m^3, mass damping 1/s, CHOLMOD. Per mesh:
+// time per step with one Newton iteration (newton_max_iterations 1) and with Newton
+// converged to a relative residual of 1e-6 (cap 50), on 1 and 2 threads
+// (tbb::global_control); Newton and linear iterations per step. Each run starts the drop
+// afresh, skips `--warmup` steps and times `--steps` (the body falls, lands and settles:
+// contact rows and the SQP stage are included). Medians; JSON out. Skips a mesh cleanly when
+// its files are absent.
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "engine/core/error.hpp"
+#include "engine/io/atomic_file.hpp"
+#include "engine/io/stats_summary.hpp"
+#include "engine/world.hpp"
+
+using namespace sinew;
+
+namespace {
+
+struct MeshCase {
+  std::string name;
+  std::string transform;  // JSON "transform" placing the mesh just above the ground (y = 0)
+};
+
+// bunny_5 is ~176 units tall along z: scaled to ~0.35 m, z turned to y. cube_20 spans
+// [0.25, 3] x [0, 0.75] x [0, 0.75]: scaled by 0.2 to a 0.55 x 0.15 x 0.15 m bar.
+const std::vector<MeshCase> kMeshes = {
+    {"bunny_5", R"({"scale": 0.002, "rotation_deg": [-90, 0, 0], "translate": [0, 0.05, 0]})"},
+    {"cube_20", R"({"scale": 0.2, "translate": [-0.3, 0.05, -0.075]})"}};
+
+SceneDesc drop_scene(const std::string& mesh_path, const MeshCase& mesh, int newton_iterations, double tolerance) {
+  const std::string text = R"({"name": ")" + mesh.name + R"(", "h": 0.0166666666666667,
+    "solver": {"newton_max_iterations": )" + std::to_string(newton_iterations) +
+                           R"(, "newton_tolerance": )" + std::to_string(tolerance) + R"(},
+    "bodies": [{"name": ")" + mesh.name + R"(", "tet_mesh": ")" + mesh_path + R"(", "transform": )" +
+                           mesh.transform + R"(,
+      "material": {"model": "stable_neo_hookean", "E": 5e5, "nu": 0.45, "rho": 1000},
+      "damping": {"mass": 1}}],
+    "obstacles": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "friction": 0.5}]})";
+  return parse_scene_text(text, mesh.name, ".");
+}
+
+struct Samples {
+  std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints;
+  bool finite = true;
+};
+
+Samples run(const SceneDesc& scene, int warmup, int steps) {
+  World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
+  Samples s;
+  for (int k = 0; k < warmup + steps && s.finite; ++k) {
+    s.finite = world.step();
+    if (k < warmup) continue;
+    const StepProfile& p = world.profile();
+    auto count = [&](const char* key) { return p.iterations.count(key) ? p.iterations.at(key) : 0; };
+    auto ms = [&](Stage stage) { return p.ms[static_cast<int>(stage)]; };
+    s.step_ms.push_back(p.step_ms);
+    s.newton.push_back(count("newton"));
+    // CHOLMOD: one direct solve per Newton iteration; PCG: its iterations.
+    s.linear.push_back(scene.solver.linear == "pcg" ? count("pcg") : count("newton"));
+    s.assemble.push_back(ms(Stage::Assemble));
+    s.factorize.push_back(ms(Stage::Factorize));
+    s.solve.push_back(ms(Stage::Solve));
+    s.constraints.push_back(ms(Stage::Rows) + ms(Stage::SqpFactorize) + ms(Stage::SqpSolve) + ms(Stage::Pgs));
+  }
+  return s;
+}
+
+double median(std::vector<double> v) { return v.empty() ? 0.0 : quantile(v, 0.5); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int warmup = 5, steps = 60;
+  std::string out = "bench_hyperelastic.json";
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--steps" && i + 1 < argc) steps = std::stoi(argv[++i]);
+    else if (arg == "--warmup" && i + 1 < argc) warmup = std::stoi(argv[++i]);
+    else if (arg == "--out" && i + 1 < argc) out = argv[++i];
+    else {
+      std::fprintf(stderr, "usage: sinew_bench_hyperelastic [--steps N] [--warmup N] [--out FILE]\n");
+      return 2;
+    }
+  }
+  nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
+                            {"steps", steps}, {"runs", nlohmann::json::array()}};
+  for (const MeshCase& mesh : kMeshes) {
+    const std::string base = std::string(SINEW_SOURCE_DIR) + "/../shared/meshes/tet/" + mesh.name;
+    if (!std::filesystem::exists(base + ".node") || !std::filesystem::exists(base + ".ele")) {
+      std::printf("%s: skipped (no %s.node/.ele)\n", mesh.name.c_str(), base.c_str());
+      continue;
+    }
+    for (const auto& [mode, iterations, tolerance] :
+         {std::tuple{"one_newton_iteration", 1, 1e-6}, std::tuple{"newton_converged_1e-6", 50, 1e-6}}) {
+      for (int threads : {1, 2}) {
+        tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+        try {
+          const SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance);
+          const Samples s = run(scene, warmup, steps);
+          const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
+          std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "
+                      "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step%s\n",
+                      mesh.name.c_str(), mode, threads, median(s.step_ms), median(s.assemble), median(s.factorize),
+                      median(s.solve), median(s.constraints), median(s.newton),
+                      s.newton.empty() ? 0.0 : *std::max_element(s.newton.begin(), s.newton.end()), median(s.linear),
+                      s.finite ? "" : "  (stopped: non-finite)");
+          std::fflush(stdout);
+          results["runs"].push_back({{"mesh", mesh.name}, {"mode", mode}, {"threads", threads},
+                                     {"finite", s.finite}, {"step_ms_median", median(s.step_ms)},
+                                     {"assemble_ms_median", median(s.assemble)},
+                                     {"factorize_ms_median", median(s.factorize)},
+                                     {"solve_ms_median", median(s.solve)},
+                                     {"constraints_ms_median", median(s.constraints)},
+                                     {"newton_median", median(s.newton)}, {"newton_total", total_newton},
+                                     {"linear_median", median(s.linear)}, {"timed_steps", s.step_ms.size()}});
+        } catch (const InputError& e) {
+          std::fprintf(stderr, "%s\n", e.what());
+          return 2;
+        }
+      }
+    }
+  }
+  write_file_atomically(out, [&](std::ostream& o) { o << results.dump(2) << "\n"; });
+  std::printf("wrote %s\n", out.c_str());
+  return 0;
+}
