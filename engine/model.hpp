@@ -1,6 +1,7 @@
 #pragma once
 // The constant part of a simulation: everything that does not change during a run.
 // Built once from a SceneDesc by build_model(); read by every stage of World::step().
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <string>
@@ -46,6 +47,8 @@ struct NodeLoad {
   std::vector<int> nodes;  // global
   Vec3 node_force = Vec3::Zero();
   double ramp_time = 0;
+  // Fraction of the force applied at time t: min(1, t / ramp_time), 1 without a ramp.
+  double ramp(double t) const { return ramp_time > 0 ? std::min(1.0, t / ramp_time) : 1.0; }
 };
 
 // Nodes on a prescribed rigid rotation (DrivenDesc): solved like fixed nodes (free_index
@@ -96,6 +99,11 @@ struct Model {
   std::vector<std::vector<int>> element_colors;
 
   SystemPattern pattern;                       // sparsity of the free-DOF system matrix
+
+  // Per body, 1 if asleep: set only in the model World::step passes to the stages while some
+  // bodies sleep (engine/sleep/sleep.hpp, freeze_sleeping_bodies); empty: every body awake.
+  std::vector<char> body_asleep;
+  bool asleep(int body) const { return !body_asleep.empty() && body_asleep[body]; }
 };
 
 // Builds geometry, lattices, element references, masses and the system pattern.

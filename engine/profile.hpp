@@ -20,12 +20,24 @@ inline const char* stage_name(Stage s) {
   return names[static_cast<int>(s)];
 }
 
+// Work a step did, counted rather than timed, so that two runs compare on any machine (tests
+// assert on these, never on time). Not written to the stats file.
+struct StepWork {
+  long elements = 0;        // element evaluations: assembly, Newton derivatives, line-search energies
+  long rows = 0;            // constraint rows built, over all SQP iterations
+  long factorizations = 0;  // numeric factorisations (or PCG preconditioner setups)
+  long solves = 0;          // right-hand sides solved; each column of a multi-column solve counts
+  long total() const { return elements + rows + factorizations + solves; }
+};
+
 struct StepProfile {
   std::array<double, kStageCount> ms{};               // wall time per stage
   std::array<std::string, kStageCount> skipped{};     // reason when a stage did no work
   std::map<std::string, int> rows;                    // active constraint rows by kind
-  std::map<std::string, int> iterations;              // by solver: pcg, pgs, sqp
+  std::map<std::string, int> iterations;              // by solver: pcg, pgs, sqp; and events
+                                                      // (sleeping_bodies: bodies asleep this step)
   std::map<std::string, double> violation;            // worst violation by kind
+  StepWork work;
   double step_ms = 0;
   bool finite = true;
   void clear() { *this = StepProfile{}; }

@@ -8,6 +8,7 @@
 #include "engine/constraints/row_table.hpp"
 #include "engine/core/types.hpp"
 #include "engine/profile.hpp"
+#include "engine/sleep/sleep_state.hpp"
 
 namespace sinew {
 
@@ -39,6 +40,7 @@ struct State {
   std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
   BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)
   StepProfile profile;               // of the last step
+  SleepState sleep;                  // per body sleeping (World::step, engine/sleep/sleep.hpp)
 };
 
 }  // namespace sinew

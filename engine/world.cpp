@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "engine/sleep/sleep.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
@@ -25,6 +26,34 @@ World::World(Model model, const std::vector<Vec3>& initial_velocity)
   s.v_free = VecX::Zero(3 * m_model.num_free);
   s.surface.resize(m_model.bodies.size());
   update_surfaces(m_model, s);
+  const size_t bodies = m_model.bodies.size();
+  s.sleep.asleep.assign(bodies, 0);
+  s.sleep.quiet_steps.assign(bodies, 0);
+  s.sleep.island.assign(bodies, -1);
+  s.sleep.bounds.assign(bodies, Aabb{});
+}
+
+void World::apply_sleeping_set() {
+  State& s = m_state;
+  s.sleep.changed = false;
+  if (s.sleep.count() == 0) m_frozen.reset();
+  else m_frozen = std::make_unique<Model>(freeze_sleeping_bodies(m_model, s.sleep.asleep));
+  const Model& model = stage_model();
+  s.system = model.pattern.matrix;
+  s.rhs = VecX::Zero(3 * model.num_free);
+  s.v_free = VecX::Zero(3 * model.num_free);
+  s.factor_age = m_model.solver.refactor_interval;  // no reuse of a factorisation of the old pattern
+  s.dense_inverse_valid = false;
+  m_solver.reset_pattern();
+}
+
+void World::rest_step() {
+  State& s = m_state;
+  // s.rows keeps the rows of the last step that ran: those the sleepers rest on.
+  for (std::string& reason : s.profile.skipped) reason = "all bodies asleep";
+  s.profile.iterations["sleeping_bodies"] = s.sleep.count();
+  s.t += m_model.h;
+  ++s.step_count;
 }
 
 bool World::step() {
@@ -32,24 +61,35 @@ bool World::step() {
   const auto start = Clock::now();
   State& s = m_state;
   s.profile.clear();
+  const bool sleeping = m_model.solver.sleep_steps > 0;
+  if (sleeping) wake_disturbed_bodies(m_model, s);
+  if (sleeping && s.sleep.all()) {
+    rest_step();
+    s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    return true;
+  }
+  if (s.sleep.changed) apply_sleeping_set();
+  const int asleep = s.sleep.count();  // during this step
+  const Model& model = stage_model();
+  const long factorizations = m_solver.factorizations(), solves = m_solver.solves(), rows = s.rows.appended;
   const VecX x0 = s.x, v0 = s.v;
 
   {
     StageTimer timer(s.profile, Stage::Assemble);
-    assemble_system(m_model, s);
+    assemble_system(model, s);
   }
-  bool ok = m_model.has_hyperelastic ? solve_newton(m_model, m_solver, s) : solve_velocity(m_model, m_solver, s);
-  if (ok) solve_constraints(m_model, m_solver, s);  // times its own sub-stages
+  bool ok = model.has_hyperelastic ? solve_newton(model, m_solver, s) : solve_velocity(model, m_solver, s);
+  if (ok) solve_constraints(model, m_solver, s);  // times its own sub-stages
   // Driven nodes are not unknowns of the constraint solve, which leaves them at rest:
   // give them back the step's prescribed mean velocity (set by solve_newton).
   if (ok)
-    for (const DrivenNodes& driven : m_model.driven)
+    for (const DrivenNodes& driven : model.driven)
       for (int n : driven.nodes)
         s.v.segment<3>(3 * n) = (driven.position(m_model.rest_x.segment<3>(3 * n), s.t + m_model.h) -
                                  x0.segment<3>(3 * n)) / m_model.h;
   if (ok) {
     StageTimer timer(s.profile, Stage::Integrate);
-    integrate_positions(m_model, s);
+    integrate_positions(model, s);
     // Finite but absurd counts as failed too: a diverging solve reaches 1e300 long before
     // it reaches Inf (seen on a collapsing column before its scene was fixed).
     ok = s.x.allFinite() && s.v.allFinite() && s.v.lpNorm<Eigen::Infinity>() <= m_model.solver.max_speed;
@@ -65,8 +105,13 @@ bool World::step() {
   }
   {
     StageTimer timer(s.profile, Stage::Surface);
-    update_surfaces(m_model, s);
+    update_surfaces(model, s);
   }
+  if (ok && sleeping) update_sleep(m_model, v0, s);
+  if (asleep) s.profile.iterations["sleeping_bodies"] = asleep;
+  s.profile.work.factorizations = m_solver.factorizations() - factorizations;
+  s.profile.work.solves = m_solver.solves() - solves;
+  s.profile.work.rows = s.rows.appended - rows;
   s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   return ok;
 }

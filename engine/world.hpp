@@ -1,5 +1,7 @@
 #pragma once
 // A running simulation: the constant Model, the mutable State, and step().
+#include <memory>
+
 #include "engine/model.hpp"
 #include "engine/solve/linear_solver.hpp"
 #include "engine/state.hpp"
@@ -25,7 +27,16 @@ class World {
   uint64_t state_hash() const;
 
  private:
+  // The model the stages run on: m_model, or m_frozen while some bodies sleep.
+  const Model& stage_model() const { return m_frozen ? *m_frozen : m_model; }
+  // After the sleeping set changed: the stages' model, its system pattern and the solver's
+  // symbolic analysis follow, and the next step factorises afresh.
+  void apply_sleeping_set();
+  // A step while every body sleeps: only time advances.
+  void rest_step();
+
   Model m_model;
+  std::unique_ptr<Model> m_frozen;  // sleepers frozen (engine/sleep/sleep.hpp); null when all are awake
   State m_state;
   LinearSolver m_solver;
 };

@@ -22,6 +22,11 @@ namespace {
 struct BenchScene {
   std::string name;
   std::function<SceneDesc()> make;  // throws if unavailable (e.g. a missing shared mesh)
+  // Sleeping bodies stay off (solver.sleep_steps 0) so that the figures time the simulation
+  // of every scene even once it rests; scenes that measure sleeping turn it on and settle
+  // for extra warm-up steps first.
+  bool sleeping = false;
+  int settle = 0;
 };
 
 std::string source_dir() { return SINEW_SOURCE_DIR; }
@@ -51,6 +56,20 @@ SceneDesc block10k_scene() {
   return parse_scene_text(text, "block10k", source_dir());
 }
 
+// Three 0.34 m boxes (64 cells each) resting on a plane: the cost of a scene at rest, awake
+// and asleep (docs/ARCHITECTURE.md, "Sleeping bodies").
+SceneDesc rest_boxes_scene() {
+  std::string bodies;
+  for (int i = 0; i < 3; ++i)
+    bodies += std::string(i ? ", " : "") + R"({"name": "box)" + std::to_string(i) +
+              R"(", "shape": [{"type": "box", "half_extents": [0.17, 0.17, 0.17]}], "transform": {"translate": [)" +
+              std::to_string(0.8 * (i - 1)) + R"(, 0.175, 0]}, "cell_size": 0.1, "surface_resolution": 0.085,
+      "material": {"E": 1e6, "nu": 0.3, "rho": 500}})";
+  return parse_scene_text(R"({"name": "rest3boxes", "h": 0.0166667, "bodies": [)" + bodies +
+                              R"(], "obstacles": [{"type": "plane", "friction": 0.5}]})",
+                          "rest3boxes", source_dir());
+}
+
 std::vector<BenchScene> all_scenes() {
   return {{"beam56", [] { return scene_file("assets/scenes/paper000_beam_150kPa.json"); }},
           {"armadillo365", armadillo_scene},
@@ -60,14 +79,18 @@ std::vector<BenchScene> all_scenes() {
           // Paper 001: the fig. 2 beam (240 tets) and the fig. 3 finger pressed on its side
           // (324 tets, hundreds of active strain limits and ground contact).
           {"beam240tet", [] { return scene_file("assets/scenes/paper001_beam_5kPa_anisotropic.json"); }},
-          {"finger324", [] { return scene_file("assets/scenes/paper001_finger_side_anisotropic.json"); }}};
+          {"finger324", [] { return scene_file("assets/scenes/paper001_finger_side_anisotropic.json"); }},
+          // Sleeping (issue 7): the boxes fall asleep ~40 steps after they land.
+          {"rest3boxes_awake", rest_boxes_scene, false, 60},
+          {"rest3boxes_asleep", rest_boxes_scene, true, 60}};
 }
 
 nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const std::string& linear) {
   SceneDesc scene = bench.make();
   if (!linear.empty()) scene.solver.linear = linear;
+  if (!bench.sleeping) scene.solver.sleep_steps = 0;
   World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
-  for (int i = 0; i < warmup; ++i) world.step();
+  for (int i = 0; i < warmup + bench.settle; ++i) world.step();
   std::vector<FrameStats> samples;
   for (int i = 0; i < steps; ++i) samples.push_back(simulate_frame(world, 1));
   nlohmann::json stages = nlohmann::json::object();
@@ -89,7 +112,8 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
               quantile(rows, 1.0), quantile(sqp, 0.5));
   return {{"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
           {"sqp_median", quantile(sqp, 0.5)}, {"linear", scene.solver.linear}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
-          {"steps", steps}, {"warmup", warmup}, {"finite", world.state().x.allFinite()},
+          {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world.state().x.allFinite()},
+          {"sleeping", bench.sleeping},
           {"stages", stages}};
 }
 
@@ -112,7 +136,8 @@ int main(int argc, char** argv) {
     else if (arg == "--linear") linear = next();
     else {
       std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--out FILE]\n"
-                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k, creature365, beam240tet, finger324\n");
+                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k, creature365, beam240tet, finger324,\n"
+                  "        rest3boxes_awake, rest3boxes_asleep\n");
       return arg == "--help" ? 0 : 2;
     }
   }

@@ -91,7 +91,7 @@ ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const
     const Body& body_a = model.bodies[a];
     const double margin = contact_margin(model, a);
     for (int b = 0; b < nb; ++b) {
-      if (b == a) continue;
+      if (b == a || (model.asleep(a) && model.asleep(b))) continue;  // two sleepers: neither can move
       const Body& body_b = model.bodies[b];
       const uint32_t partner = body_partner(model, b);
       // Broad phase: A's cells whose surface bounds come within the margin of B's.

@@ -131,6 +131,12 @@ ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX&
     uint32_t first_vertex = 0;
     for (int b = 0; b < static_cast<int>(model.bodies.size()); ++b) {
       const Body& body = model.bodies[b];
+      // A sleeping body's nodes are not unknowns: a row on it alone would be empty (and
+      // a moving obstacle near it wakes it before the step, engine/sleep/sleep.hpp).
+      if (model.asleep(b)) {
+        first_vertex += static_cast<uint32_t>(body.embedding.cell.size());
+        continue;
+      }
       const double margin = contact_margin(model, b);
       // Broad phase: cells whose surface bounds may come within the margin of the obstacle.
       const auto near = [&](const Aabb& box) { return obstacle_distance_bound(ob, origin, box) < margin; };

@@ -17,6 +17,7 @@ void RowTable::clear() {
 }
 
 int RowTable::add_row(RowKind k, double c, double lower, double upper, uint64_t identity) {
+  ++appended;
   kind.push_back(k);
   value.push_back(c);
   lo.push_back(lower);

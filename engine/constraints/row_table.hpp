@@ -37,6 +37,8 @@ struct RowTable {
   std::vector<int> nodes;             // global node per stencil entry
   std::vector<Vec3> jac;              // dC_i / dx_node per stencil entry
   std::vector<double> lambda;         // solution (force along J_i)
+  long appended = 0;                  // rows added over the table's life: a work counter that
+                                      // clear() keeps (StepWork::rows)
 
   int size() const { return static_cast<int>(kind.size()); }
   void clear();

@@ -168,6 +168,11 @@ struct SolverDesc {
   // Newton on the incremental potential (hyperelastic bodies, paper 003).
   int newton_max_iterations = 20;
   double newton_tolerance = 1e-6;  // |gradient| relative to its value at the first iterate
+  // Sleeping bodies (engine/sleep/): a body whose RMS speed and RMS acceleration stay at or
+  // below these for sleep_steps consecutive steps sleeps until disturbed. 0 steps: never.
+  double sleep_speed = 0.01;        // m/s, sqrt(2 kinetic energy / mass)
+  double sleep_acceleration = 0.1;  // m/s^2, sqrt(sum m |dv/h|^2 / mass): the net force per unit mass
+  int sleep_steps = 30;
 };
 
 struct SceneDesc {

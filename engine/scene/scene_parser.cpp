@@ -649,6 +649,9 @@ SolverDesc parse_solver(const Object& o) {
   o.number("strain_activation_margin", s.strain_activation_margin, kNonNegative);
   o.integer("newton_max_iterations", s.newton_max_iterations, kPositive);
   o.number("newton_tolerance", s.newton_tolerance, kPositive);
+  o.number("sleep_speed", s.sleep_speed, kNonNegative);
+  o.number("sleep_acceleration", s.sleep_acceleration, kNonNegative);
+  o.integer("sleep_steps", s.sleep_steps, kNonNegative);
   return s;
 }
 
@@ -657,7 +660,7 @@ const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_ite
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
                              "contact_margin", "body_friction", "sqp_position_tolerance",
                              "refactor_interval", "max_speed", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
-                             "newton_tolerance"};
+                             "newton_tolerance", "sleep_speed", "sleep_acceleration", "sleep_steps"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",
                             "frames", "solver",  "bodies", "obstacles"};
 

@@ -9,6 +9,7 @@ LinearSolver::LinearSolver(const SolverDesc& desc)
 }
 
 bool LinearSolver::factorize(const SparseMatrix& A) {
+  ++m_factorizations;
   m_matrix = &A;
   if (!m_use_cholmod) {
     m_pcg.compute(A);
@@ -27,6 +28,7 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
 }
 
 int LinearSolver::solve(const VecX& b, VecX& x) {
+  ++m_solves;
   if (m_use_cholmod) {
     x = m_cholmod.solve(b);
     m_last_residual = 0;
@@ -40,6 +42,7 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
 
 void LinearSolver::solve_many(const MatX& B, MatX& X) {
   if (m_use_cholmod) {
+    m_solves += B.cols();
     X = m_cholmod.solve(B);
     return;
   }

@@ -26,11 +26,15 @@ class LinearSolver {
   void reset_pattern() { m_analyzed = false; }
   bool uses_cholmod() const { return m_use_cholmod; }
   double last_residual() const { return m_last_residual; }
+  // Work counters since construction (StepWork): factorize() calls and right-hand sides solved.
+  long factorizations() const { return m_factorizations; }
+  long solves() const { return m_solves; }
 
  private:
   bool m_use_cholmod = true;
   bool m_analyzed = false;
   double m_last_residual = 0;
+  long m_factorizations = 0, m_solves = 0;
   SolverDesc m_desc;
   Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> m_cholmod;
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper,

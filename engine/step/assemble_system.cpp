@@ -18,8 +18,7 @@ void assemble_system(const Model& model, State& state) {
         model.node_mass[n] * model.gravity + state.external_force.segment<3>(3 * n);
   // Scene loads at the end of the step (backward Euler evaluates forces there).
   for (const NodeLoad& load : model.loads) {
-    const double t = state.t + h;
-    const double ramp = load.ramp_time > 0 ? std::min(1.0, t / load.ramp_time) : 1.0;
+    const double ramp = load.ramp(state.t + h);
     for (int n : load.nodes) state.force.segment<3>(3 * n) += ramp * load.node_force;
   }
 
@@ -28,6 +27,7 @@ void assemble_system(const Model& model, State& state) {
   std::vector<double>& k_scale = state.element_scratch;
   k_scale.resize(model.num_elements);
   for (const std::vector<int>& color : model.element_colors) {
+    state.profile.work.elements += static_cast<long>(color.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const int e = color[i];

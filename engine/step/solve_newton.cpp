@@ -153,6 +153,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const SparseMatrix A0 = state.system;
   const VecX b0 = state.rhs;
   const double noise = energy_noise(model);
+  long hyperelastic_elements = 0;  // evaluated per assembly and per line-search trial (StepWork)
+  for (const std::vector<int>& color : model.element_colors)
+    for (int e : color) hyperelastic_elements += is_hyperelastic(model, e);
   VecX v, x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction;
   std::vector<double> psi, psi_trial, force2;
   gather_free(model, state.v, v);
@@ -173,6 +176,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     StageTimer timer(state.profile, Stage::Assemble);
     H = A0;
     hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, H.valuePtr());
+    state.profile.work.elements += hyperelastic_elements;
   };
   for (;; ++newton) {
     assemble();
@@ -255,6 +259,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       trial = v + a * direction;
       positions_at(model, t_end, x0, trial, x);
       hyperelastic_energies(model, x, psi_trial);
+      state.profile.work.elements += hyperelastic_elements;
       double change = a * linear_term + 0.5 * a * a * curvature;
       for (int e = 0; e < model.num_elements; ++e) change += psi_trial[e] - psi[e];  // fixed order
       return change;
