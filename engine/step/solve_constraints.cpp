@@ -5,6 +5,7 @@
 #include "engine/constraints/contact_rows.hpp"
 #include "engine/constraints/energy_limit.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
+#include "engine/constraints/solve_column_cache.hpp"
 #include "engine/constraints/strain_limit_rows.hpp"
 #include "engine/step/stages.hpp"
 
@@ -115,7 +116,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   std::vector<uint64_t> keep;
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
-  int sqp = 0, pgs = 0, refactorisations = 0;
+  int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0;
   double last_move = 1e300, previous_move = 1e300;
   for (int k = 0;; ++k) {
     const double worst = [&] {
@@ -169,7 +170,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         }
         Y = s.dense_inverse * Jt.sparseView();
       } else {
-        solver.solve_many(Jt, Y);
+        solved_columns += s.solve_columns.columns(s.rows, Jt, Y, [&](const MatX& B, MatX& X) { solver.solve_many(B, X); });
       }
       const MatX W = delassus(model, s.rows, Y);
       solve_timer.stop();
@@ -207,6 +208,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   profile.iterations["sqp"] += sqp;
   profile.iterations["pgs"] += pgs;
   if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
+  if (solved_columns) profile.iterations["solved_columns"] += solved_columns;
 }
 
 }  // namespace sinew
