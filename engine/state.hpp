@@ -5,6 +5,7 @@
 
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/collision/body_surfaces.hpp"
+#include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/row_table.hpp"
 #include "engine/constraints/solve_column_cache.hpp"
 #include "engine/core/types.hpp"
@@ -41,6 +42,7 @@ struct State {
   std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
   BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)
   StepProfile profile;               // of the last step
+  std::vector<Attachment> attachments;  // surface points held at targets (set by callers: ui/ grabs)
 };
 
 }  // namespace sinew

@@ -1,6 +1,7 @@
 #include <algorithm>
 
 #include "engine/assembly/scatter_stiffness.hpp"
+#include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/body_contact_rows.hpp"
 #include "engine/constraints/contact_rows.hpp"
 #include "engine/constraints/energy_limit.hpp"
@@ -21,7 +22,8 @@ namespace {
 // their own, and waiting for the penetration to exceed the tolerance would let bodies slide
 // freely on the steps in between (and sink, when g h^2 < contact_tolerance).
 double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
-                  const std::vector<uint64_t>& keep, RowTable& rows, BodySurfaces& surfaces, StepProfile& profile) {
+                  const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
+                  BodySurfaces& surfaces, StepProfile& profile) {
   rows.clear();
   const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
   profile.violation["energy"] = std::max(0.0, energy);
@@ -38,11 +40,16 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
     worst = std::max(worst, penetration / model.solver.contact_tolerance);
     if (k == 0 && penetration > 0) worst = std::max(worst, 2.0);
   }
+  if (!attachments.empty()) {
+    const double gap = add_attachment_rows(model, attachments, x, rows);
+    profile.violation["attachment"] = gap;
+    worst = std::max(worst, gap / model.solver.contact_tolerance);
+  }
   return worst;
 }
 
-bool has_constraints(const Model& model) {
-  return !model.obstacles.empty() || model.bodies.size() > 1 || model.has_strain_limits ||
+bool has_constraints(const Model& model, const State& s) {
+  return !s.attachments.empty() || !model.obstacles.empty() || model.bodies.size() > 1 || model.has_strain_limits ||
          std::any_of(model.element_Umax.begin(), model.element_Umax.end(), [](double u) { return u > 0; });
 }
 
@@ -102,7 +109,7 @@ void update_curvature(const Model& model, State& s) {
 // by more than sqp_position_tolerance.
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
-  const bool constrained = has_constraints(model);
+  const bool constrained = has_constraints(model, s);
   if (!constrained && s.factor_exact) {
     profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
     profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles, no energy or strain limits";
@@ -125,7 +132,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         s.rows.clear();
         return 0.0;
       }
-      return build_rows(model, s.t + h, k, x0 + h * s.v, s.v, keep, s.rows, s.body_surfaces, profile);
+      return build_rows(model, s.t + h, k, x0 + h * s.v, s.v, keep, s.attachments, s.rows, s.body_surfaces, profile);
     }();
     const int m = s.rows.size();
     if (k == 0 && s.factor_exact && (m == 0 || worst <= 1)) break;
