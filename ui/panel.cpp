@@ -167,8 +167,14 @@ PanelRequests Panel::draw(const LiveScene& scene, const PanelStats& stats) {
     char caption[64];
     std::snprintf(caption, sizeof caption, "%.2f ms", history.empty() ? 0.0 : double(history.back()));
     ImGui::PlotLines("frame ms", history.data(), int(history.size()), 0, caption, 0.0f, top * 1.1f, ImVec2(220, 50));
-    for (const auto& [stage, ms] : stats.stages)
-      if (ms > 0) ImGui::Text("  %-14s %8.3f ms", stage.c_str(), ms);
+    // One small plot per stage that took time recently, on the total's scale.
+    for (const auto& [stage, ms] : stats.stages) {
+      const auto it = stats.stage_ms.find(stage);
+      if (it == stats.stage_ms.end() || *std::max_element(it->second.begin(), it->second.end()) <= 0) continue;
+      const std::vector<float> series(it->second.begin(), it->second.end());
+      std::snprintf(caption, sizeof caption, "%.3f ms", ms);
+      ImGui::PlotLines(stage.c_str(), series.data(), int(series.size()), 0, caption, 0.0f, top * 1.1f, ImVec2(220, 22));
+    }
     ImGui::Text("simulated / real time %.3f", stats.sim_per_wall);
   }
   {

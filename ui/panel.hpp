@@ -16,6 +16,7 @@ namespace sinew {
 
 struct PanelStats {
   std::deque<double> step_ms;                          // recent frames' simulation time, ms
+  std::map<std::string, std::deque<double>> stage_ms;  // the same per stage (same length)
   std::vector<std::pair<std::string, double>> stages;  // last frame, ms per stage
   std::map<std::string, int> rows;                     // active rows by kind
   std::map<std::string, double> violation;             // worst violation by kind

@@ -219,6 +219,12 @@ class Session {
     m_stats.step_ms.push_back(m_last.step_ms);
     if (m_stats.step_ms.size() > 120) m_stats.step_ms.pop_front();
     m_stats.stages = m_last.stages;
+    for (const auto& [stage, ms] : m_last.stages) {
+      std::deque<double>& series = m_stats.stage_ms[stage];  // aligned with step_ms
+      series.push_back(ms);
+      while (series.size() > m_stats.step_ms.size()) series.pop_front();
+      while (series.size() < m_stats.step_ms.size()) series.push_front(0.0);  // first seen now
+    }
     m_stats.rows = m_last.rows;
     m_stats.violation = m_last.violation;
     m_stats.iterations = m_last.iterations;
