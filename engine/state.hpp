@@ -43,6 +43,8 @@ struct State {
   BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)
   StepProfile profile;               // of the last step
   std::vector<Attachment> attachments;  // surface points held at targets (set by callers: ui/ grabs)
+  IterationCaps caps;                // lower iteration caps for the next step (set by callers: the
+                                     // real-time budget, engine/realtime/); 0 = the scene's
 };
 
 }  // namespace sinew

@@ -69,17 +69,24 @@ const std::vector<std::string>& LiveScene::parameter_names() {
   static const std::vector<std::string> names = {
       "E", "nu", "rho", "Umax", "smin.x", "smin.y", "smin.z", "smax.x", "smax.y", "smax.z", "h",
       "pgs_max_iterations", "sqp_max_iterations", "newton_max_iterations", "sqp_tolerance",
-      "strain_tolerance", "newton_tolerance"};
+      "strain_tolerance", "newton_tolerance", "budget_ms"};
   return names;
 }
 
 double LiveScene::parameter(const std::string& name) const {
+  if (name == "budget_ms") return m_budget_ms;
   if (const double* f = field(m_scene, m_body, name)) return *f;
   if (const int* i = int_field(m_scene, name)) return *i;
   throw InputError("unknown parameter '" + name + "'");
 }
 
 void LiveScene::set_parameter(const std::string& name, double value) {
+  if (name == "budget_ms") {
+    if (!(value >= 0 && value < 1e6))
+      throw InputError("parameter 'budget_ms' must be a number >= 0, got " + std::to_string(value));
+    m_budget_ms = value;  // a run setting: nothing to rebuild
+    return;
+  }
   double* f = field(m_scene, m_body, name);
   int* i = int_field(m_scene, name);
   if (!f && !i) throw InputError("unknown parameter '" + name + "'");

@@ -26,7 +26,7 @@ class LiveScene {
   // Parameters by name (docs/sessions.md lists them): material "E", "nu", "rho"; limits
   // "Umax", "smin.x" ... "smax.z" (strain); solver "h", "pgs_max_iterations",
   // "sqp_max_iterations", "newton_max_iterations", "sqp_tolerance", "strain_tolerance",
-  // "newton_tolerance". Unknown names and values out of range throw InputError.
+  // "newton_tolerance"; the run's "budget_ms" (not part of the scene). Unknown names and values out of range throw InputError.
   static const std::vector<std::string>& parameter_names();
   double parameter(const std::string& name) const;
   void set_parameter(const std::string& name, double value);
@@ -35,6 +35,9 @@ class LiveScene {
   // The strain-limit projection: "hyperbolic", "orthogonal", "linear" or "isotropic".
   void set_strain_mode(const std::string& mode);
 
+  // The real-time budget per frame, ms ("budget_ms"; 0: none, the scene's caps, deterministic).
+  double budget_ms() const { return m_budget_ms; }
+
   // Back to the scene's initial state, keeping the edited parameters.
   void reset();
 
@@ -42,6 +45,7 @@ class LiveScene {
   void rebuild(bool keep_state);
   SceneDesc m_scene;
   int m_body = 0;
+  double m_budget_ms = 0;
   std::unique_ptr<World> m_world;
 };
 

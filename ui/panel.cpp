@@ -36,7 +36,7 @@ bool Panel::slider_range(const std::string& label, SliderRange& out) {
       {"h", {1e-4, 0.1, true}},         {"pgs_max_iterations", {1, 1000, true}},
       {"sqp_max_iterations", {1, 100, true}}, {"newton_max_iterations", {1, 100, true}},
       {"sqp_tolerance", {1e-8, 1e-1, true}},  {"strain_tolerance", {1e-8, 1e-1, true}},
-      {"newton_tolerance", {1e-12, 1e-1, true}}};
+      {"newton_tolerance", {1e-12, 1e-1, true}}, {"budget_ms", {0, 100, false}}};
   const auto it = ranges.find(label);
   if (it == ranges.end()) return false;
   out = it->second;
@@ -82,7 +82,8 @@ void Panel::slider(const LiveScene& scene, const std::string& name, PanelRequest
   char shown[64];
   const double value = scene.parameter(name);
   // A limit that is off (Umax 0, smax infinite) shows as such, not as the track's end.
-  if (editing == m_editing.end() && !(value >= r.lo && value <= r.hi)) std::snprintf(shown, sizeof shown, "off");
+  const bool off = !(value >= r.lo && value <= r.hi) || (name == "budget_ms" && value == 0);
+  if (editing == m_editing.end() && off) std::snprintf(shown, sizeof shown, "off");
   else std::snprintf(shown, sizeof shown, "%.4g", from_track(r, track));
   ImGui::SliderScalar(name.c_str(), ImGuiDataType_Double, &track, &lo, &hi, shown);
   remember(name);
@@ -149,7 +150,7 @@ PanelRequests Panel::draw(const LiveScene& scene, const PanelStats& stats) {
   }
   if (ImGui::CollapsingHeader("Solver", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (const char* p : {"h", "pgs_max_iterations", "sqp_max_iterations", "newton_max_iterations",
-                          "sqp_tolerance", "strain_tolerance", "newton_tolerance"})
+                          "sqp_tolerance", "strain_tolerance", "newton_tolerance", "budget_ms"})
       slider(scene, p, out);
     int threads = stats.threads;
     if (ImGui::SliderInt("threads", &threads, 1, 16)) out.threads = threads;
@@ -176,6 +177,7 @@ PanelRequests Panel::draw(const LiveScene& scene, const PanelStats& stats) {
       ImGui::PlotLines(stage.c_str(), series.data(), int(series.size()), 0, caption, 0.0f, top * 1.1f, ImVec2(220, 22));
     }
     ImGui::Text("simulated / real time %.3f", stats.sim_per_wall);
+    ImGui::Text("frames over budget %d", stats.over_budget);
   }
   {
     for (const auto& [kind, n] : stats.rows) ImGui::Text("rows %-10s %d", kind.c_str(), n);

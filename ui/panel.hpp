@@ -25,6 +25,7 @@ struct PanelStats {
   bool paused = false, recording = false;
   bool timings = true;                                 // false: wall-clock figures are not drawn
   int threads = 1;
+  int over_budget = 0;                                 // frames over the budget_ms so far
 };
 
 struct PanelRequests {

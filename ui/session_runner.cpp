@@ -11,6 +11,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/core/progress.hpp"
+#include "engine/realtime/realtime_loop.hpp"
 #include "engine/simulate_frame.hpp"
 #include "render/image.hpp"
 #include "render/renderer.hpp"
@@ -215,7 +216,16 @@ class Session {
     World& world = m_live.world();
     world.mutable_state().attachments.clear();
     if (m_grab) world.mutable_state().attachments.push_back(*m_grab);
-    m_last = simulate_frame(world, m_live.scene().steps_per_frame());
+    // A budget (panel or "set budget_ms") makes the caps follow the wall clock; none: the
+    // scene's caps, deterministic.
+    if (!m_loop || m_loop_budget != m_live.budget_ms()) {
+      RealtimeSettings settings;
+      settings.budget_ms = m_live.budget_ms();
+      m_loop = std::make_unique<RealtimeLoop>(m_live.scene().solver, settings);
+      m_loop_budget = m_live.budget_ms();
+    }
+    m_last = m_loop->frame(world, m_live.scene().steps_per_frame());
+    m_stats.over_budget = m_loop->counters().over_budget;
     m_stats.step_ms.push_back(m_last.step_ms);
     if (m_stats.step_ms.size() > 120) m_stats.step_ms.pop_front();
     m_stats.stages = m_last.stages;
@@ -335,6 +345,8 @@ class Session {
   FrameStats m_last;
   std::unique_ptr<tbb::global_control> m_threads_control;
   std::unique_ptr<VideoRecorder> m_video;
+  std::unique_ptr<RealtimeLoop> m_loop;
+  double m_loop_budget = -1;
   std::string m_video_path;
   std::map<int, std::vector<const SessionEvent*>> m_at, m_after;
   std::map<int, std::vector<PointerChange>> m_pointer_changes;

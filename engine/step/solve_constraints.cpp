@@ -137,7 +137,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     const int m = s.rows.size();
     if (k == 0 && s.factor_exact && (m == 0 || worst <= 1)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) break;
-    if (k == cfg.sqp_max_iterations) break;
+    if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp)) break;
     ++sqp;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
@@ -184,7 +184,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       StageTimer pgs_timer(profile, Stage::Pgs);
       // C_k + h J (v - v_k) >= 0 with v = v_base + Y lambda.
       const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + Jt.transpose() * (v_base - v_free);
-      pgs += solve_pgs(W, c, s.rows, cfg.pgs_max_iterations, cfg.pgs_tolerance).iterations;
+      pgs += solve_pgs(W, c, s.rows, IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
+                 .iterations;
       v_next += Y * Eigen::Map<const VecX>(s.rows.lambda.data(), m);
     }
     previous_move = last_move;

@@ -212,7 +212,8 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // Converged: the factorisation of the last iterate's Hessian stays (one is made if the
     // start was already converged, for solve_constraints).
     state.profile.violation["newton_residual"] = first_norm > 0 ? norm / first_norm : 0.0;
-    if (norm <= cfg.newton_tolerance * first_norm || norm == 0 || newton == cfg.newton_max_iterations) {
+    const int newton_cap = IterationCaps::effective(cfg.newton_max_iterations, state.caps.newton);
+    if (norm <= cfg.newton_tolerance * first_norm || norm == 0 || newton == newton_cap) {
       if (!factorised) ok = factorize();
       if (!ok && exact) {  // the exact Hessian at the result is not SPD: leave a projected one
         exact = false;
