@@ -161,6 +161,13 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   double first_norm = -1;
   bool ok = true, factorised = false, exact = false;
   SparseMatrix H = A0;
+  // Newton's matrix is the Hessian of Phi alone. The previous step's constraint curvature
+  // (which factorize_step_system would add) has no term in Phi's gradient: with it the
+  // Newton steps were wrong and every step ran to the iteration cap once energy rows had
+  // been active (found by tools/stress). solve_constraints rebuilds the curvature from its
+  // own rows.
+  state.curvature.clear();
+  state.curvature_blocks.clear();
   auto factorize = [&] {
     StageTimer timer(state.profile, Stage::Factorize);
     state.system = H;
