@@ -30,6 +30,13 @@ struct StepWork {
   long total() const { return elements + rows + factorizations + solves; }
 };
 
+// Iteration caps that lower the scene's for a step (the real-time budget); 0 keeps the scene's.
+struct IterationCaps {
+  int sqp = 0, pgs = 0, newton = 0;
+  // The cap in force: the scene's, or this one when it is lower.
+  static int effective(int scene_cap, int cap) { return cap > 0 && cap < scene_cap ? cap : scene_cap; }
+};
+
 struct StepProfile {
   std::array<double, kStageCount> ms{};               // wall time per stage
   std::array<std::string, kStageCount> skipped{};     // reason when a stage did no work

@@ -4,11 +4,12 @@
 
 namespace sinew {
 
-FrameStats simulate_frame(World& world, int steps) {
+FrameStats simulate_frame(World& world, int steps, const std::function<void(int)>& before_step) {
   FrameStats frame;
   std::array<double, kStageCount> ms{};
   std::array<int, kStageCount> skipped{};
   for (int i = 0; i < steps; ++i) {
+    if (before_step) before_step(i);
     const bool ok = world.step();
     const StepProfile& p = world.profile();
     frame.step_ms += p.step_ms;

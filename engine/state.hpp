@@ -5,7 +5,9 @@
 
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/collision/body_surfaces.hpp"
+#include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/row_table.hpp"
+#include "engine/constraints/solve_column_cache.hpp"
 #include "engine/core/types.hpp"
 #include "engine/profile.hpp"
 #include "engine/sleep/sleep_state.hpp"
@@ -28,6 +30,7 @@ struct State {
   MatX dense_inverse;                // H^-1 as a dense matrix, when rows outnumber DOFs (constraints)
   bool dense_inverse_valid = false;  // dense_inverse matches the solver's factorisation
   MatX constraint_dirs;              // 3 * free x rows: J^T, then A^-1 J^T (constraints, scratch)
+  SolveColumnCache solve_columns;    // columns of constraint_dirs kept while H is unchanged (constraints)
   SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
   std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from
                                      // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T
@@ -41,6 +44,9 @@ struct State {
   BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)
   StepProfile profile;               // of the last step
   SleepState sleep;                  // per body sleeping (World::step, engine/sleep/sleep.hpp)
+  std::vector<Attachment> attachments;  // surface points held at targets (set by callers: ui/ grabs)
+  IterationCaps caps;                // lower iteration caps for the next step (set by callers: the
+                                     // real-time budget, engine/realtime/); 0 = the scene's
 };
 
 }  // namespace sinew

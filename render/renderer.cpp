@@ -92,7 +92,13 @@ Renderer::~Renderer() {
 
 void Renderer::reset_view() { m->framed = false; }
 
-void Renderer::draw(const Model& model, const State& state) {
+void Renderer::set_orbit(double orbit_deg, double elevation_deg) {
+  m->options.orbit_deg = orbit_deg;
+  m->options.elevation_deg = elevation_deg;
+  m->framed = false;
+}
+
+void Renderer::draw(const Model& model, const State& state, const std::function<void()>& overlay) {
   m->context.make_current();
   m->update_ground(model, state);
   m->update_view(model, state);
@@ -112,6 +118,7 @@ void Renderer::draw(const Model& model, const State& state) {
   m->legend_box = m->options.color_map == ColorMapKind::None
                       ? LegendBox{}
                       : m->legend.draw(m->options.color_map, m->scale, m->options.width, m->options.height);
+  if (overlay) overlay();
   m->framebuffer.resolve();
 }
 

@@ -4,6 +4,7 @@
 // Reads a const Model / State; owns its EGL context, so every call must come from the thread
 // that constructed it.
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -36,9 +37,13 @@ class Renderer {
   // later the view only widens, when a body leaves what is framed, so motion stays visible
   // against a still background. The ground is the scene's plane obstacle, else the lowest
   // surface point seen so far (it only ever moves down).
-  void draw(const Model& model, const State& state);
+  // `overlay`, if given, runs after the scene with this renderer's context current and its
+  // framebuffer bound (the ImGui panel of ui/ draws itself there, so it is in the capture).
+  void draw(const Model& model, const State& state, const std::function<void()>& overlay = {});
   void draw(const World& world) { draw(world.model(), world.state()); }
   void reset_view();
+  // Moves the camera to a new azimuth and elevation (degrees) and frames the bodies anew.
+  void set_orbit(double orbit_deg, double elevation_deg);
 
   // The last frame, tightly packed RGB, bottom row first (as GL stores it).
   void read_rgb(uint8_t* dst) const;

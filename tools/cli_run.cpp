@@ -14,6 +14,7 @@
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/mesh_export.hpp"
 #include "engine/io/stats_summary.hpp"
+#include "engine/realtime/realtime_loop.hpp"
 #include "engine/simulate_frame.hpp"
 #include "tools/cli_commands.hpp"
 #include "tools/cli_options.hpp"
@@ -32,6 +33,12 @@ Options run_options() {
        {"--export-vtu", "DIR", "write each body's lattice per frame with per-element fields\n"
                                "                          (energy_density, volume_ratio, energy_ratio):\n"
                                "                          DIR/BODY_NNNNN.vtu and the index DIR/BODY.pvd"},
+       {"--realtime", "", "run paced to wall time, one frame per 1/fps s, with a simulation budget per\n"
+                          "                          frame (default: the frame period, or --budget): iteration caps\n"
+                          "                          shrink to fit it; over-budget frames are counted. Not deterministic"},
+       {"--budget", "MS", "simulation budget per frame in ms (with or without --realtime): SQP, PGS\n"
+                          "                          and Newton caps adapt to what is left of it. Not deterministic;\n"
+                          "                          without --budget and --realtime the scene's caps hold"},
        {"--quiet", "", "print nothing but errors"}};
   for (OptionSpec& s : render_option_specs()) specs.push_back(std::move(s));
   return Options("sinew run SCENE [options]",
@@ -118,6 +125,8 @@ int run_command(int argc, char** argv) {
   // Options first, so that a typo is reported before a long scene load.
   const int frames_option = opts.get_int("--frames", 0, 1);
   const int threads = opts.get_int("--threads", 0, 1);
+  const bool realtime = opts.has("--realtime");
+  const double budget_option = opts.get_double("--budget", 0, 0);
   const RenderRequest render_request = parse_render_request(opts);
   if (!render_request.wanted() && (opts.has("--wireframe") || opts.has("--color-map") || opts.has("--size")))
     warn("--wireframe, --color-map and --size only matter with --record or --screenshot");
@@ -153,12 +162,18 @@ int run_command(int argc, char** argv) {
     renderer->frame(world, 0);
   }
 
+  RealtimeSettings pacing;
+  pacing.paced = realtime;
+  pacing.fps = scene.fps;
+  pacing.budget_ms = budget_option > 0 ? budget_option : realtime ? 1000.0 / scene.fps : 0;
+  RealtimeLoop loop(scene.solver, pacing);
+
   std::vector<FrameStats> stats;
   Progress progress("run", quiet ? 0 : frames);
   const auto start = std::chrono::steady_clock::now();
   bool finite = true;
   for (int f = 1; f <= frames && finite; ++f) {
-    stats.push_back(simulate_frame(world, scene.steps_per_frame()));
+    stats.push_back(loop.frame(world, scene.steps_per_frame()));
     finite = stats.back().finite;
     exporter.write(world, f);
     if (renderer) renderer->frame(world, f);
@@ -168,10 +183,17 @@ int run_command(int argc, char** argv) {
   if (renderer) renderer->finish();
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  if (opts.has("--stats"))
-    write_stats_json(opts.get("--stats"), stats,
-                     summary_json(stats, world, scene.steps_per_frame(), wall_s, finite));
+  nlohmann::json summary = summary_json(stats, world, scene.steps_per_frame(), wall_s, finite);
+  if (pacing.budget_ms > 0) {
+    summary["budget_ms"] = pacing.budget_ms;
+    summary["over_budget_frames"] = loop.counters().over_budget;
+    summary["paced"] = realtime;
+  }
+  if (opts.has("--stats")) write_stats_json(opts.get("--stats"), stats, summary);
   if (!quiet) print_summary(stats, wall_s, world.state().t);
+  if (!quiet && pacing.budget_ms > 0)
+    std::printf("budget %.3g ms per frame%s: %d of %d frames over budget\n", pacing.budget_ms,
+                realtime ? " (paced to wall time)" : "", loop.counters().over_budget, loop.counters().frames);
   if (!finite) {
     std::fprintf(stderr,
                  "error: the simulation met a NaN/Inf, a singular system or a node faster than solver.max_speed\n"

@@ -2,7 +2,7 @@
 # Fuzzes the input parsers (tools/fuzz/): builds the libFuzzer targets with clang, ASan and
 # UBSan into build-fuzz/ (or $SINEW_FUZZ_BUILD_DIR), then runs each for SECONDS (default 60).
 #
-#   bash tools/fuzz.sh [SECONDS] [TARGET...]     TARGET: scene_parser obj_reader gmsh_reader tetgen_reader
+#   bash tools/fuzz.sh [SECONDS] [TARGET...]     TARGET: scene_parser obj_reader gmsh_reader tetgen_reader session_script
 #
 # Seeds: tools/fuzz/corpus/TARGET/ (and assets/scenes/ for the scene parser); what the fuzzer
 # learns is kept in BUILD/corpus/TARGET/ for the next run. A crash, sanitizer report, leak,
@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 seconds=${1:-60}
 [[ $# -gt 0 ]] && shift
 targets=("$@")
-[[ ${#targets[@]} -eq 0 ]] && targets=(scene_parser obj_reader gmsh_reader tetgen_reader)
+[[ ${#targets[@]} -eq 0 ]] && targets=(scene_parser obj_reader gmsh_reader tetgen_reader session_script)
 build=${SINEW_FUZZ_BUILD_DIR:-build-fuzz}
 
 # clang and its sanitizer/fuzzer runtimes (Debian 12: not pulled in by 'clang' alone).
@@ -43,6 +43,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus" "$crashes" "$(dirname "$log")"
   seeds=(tools/fuzz/corpus/"$t")
   [[ $t == scene_parser ]] && seeds+=(assets/scenes)
+  [[ $t == session_script ]] && seeds+=(assets/sessions)
   rc=0
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     "$bin" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \

@@ -11,6 +11,24 @@ Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes) {
   return F;
 }
 
+// hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm, where H_jm is the 3x3 block of H that
+// couples column j of F with column m (vec(F) is column-major). Works on B's non-zero
+// pattern instead of the dense 9 x 24 product (a tet fills 12 of the 24 columns, and B has
+// one non-zero in three): ~10x fewer flops for a tet. Fills both triangles.
+void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat24& hessian) {
+  for (int a = 0; a < n; ++a) {
+    Mat3 G[3];  // G[m] = w sum_j dN_a,j H_jm
+    for (int m = 0; m < 3; ++m)
+      G[m] = w * (dN(a, 0) * H.block<3, 3>(0, 3 * m) + dN(a, 1) * H.block<3, 3>(3, 3 * m) +
+                  dN(a, 2) * H.block<3, 3>(6, 3 * m));
+    for (int b = a; b < n; ++b) {
+      const Mat3 K = dN(b, 0) * G[0] + dN(b, 1) * G[1] + dN(b, 2) * G[2];
+      hessian.block<3, 3>(3 * a, 3 * b) += K;
+      if (b != a) hessian.block<3, 3>(3 * b, 3 * a) += K.transpose();
+    }
+  }
+}
+
 }  // namespace
 
 double hyperelastic_element_energy(const Material& material, const ElementQuadrature& quad,
@@ -30,7 +48,6 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
   gradient.setZero();
   if (hessian) hessian->setZero();
   const int n = nodes.count;
-  Eigen::Matrix<double, 9, 24> B;
   for (int q = 0; q < quad.points; ++q) {
     const Mat83& dN = quad.dN_dX[q];
     const Mat3 F = deformation_gradient(dN, nodes);
@@ -39,12 +56,7 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
     const Mat3 P = material.pk1(F);
     for (int a = 0; a < n; ++a) gradient.segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
     if (!hessian) continue;
-    B.setZero();
-    for (int a = 0; a < n; ++a)
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) B(i + 3 * j, 3 * a + i) = dN(a, j);
-    const Mat9 H = material.projected_hessian(F);
-    hessian->noalias() += quad.weight * (B.transpose() * H * B);
+    add_point_hessian(dN, n, material.projected_hessian(F), quad.weight, *hessian);
   }
   return energy;
 }

@@ -127,4 +127,23 @@ Aabb TriangleBvh::bounds() const {
   return box;
 }
 
+RayHit TriangleBvh::raycast(const Vec3& origin, const Vec3& direction) const {
+  RTCRayHit query{};
+  query.ray.org_x = float(origin.x()), query.ray.org_y = float(origin.y()), query.ray.org_z = float(origin.z());
+  query.ray.dir_x = float(direction.x()), query.ray.dir_y = float(direction.y()), query.ray.dir_z = float(direction.z());
+  query.ray.tnear = 0;
+  query.ray.tfar = std::numeric_limits<float>::infinity();
+  query.ray.mask = ~0u;
+  query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  rtcIntersect1(m_scene, &context, &query);
+  RayHit hit;
+  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+  hit.triangle = int(query.hit.primID);
+  hit.t = query.ray.tfar;
+  hit.barycentric = Vec3(1 - query.hit.u - query.hit.v, query.hit.u, query.hit.v);
+  return hit;
+}
+
 }  // namespace sinew

@@ -16,6 +16,12 @@ struct NearestTriangle {
   double distance_sq = std::numeric_limits<double>::infinity();
 };
 
+struct RayHit {
+  int triangle = -1;  // -1: the ray misses every triangle
+  double t = std::numeric_limits<double>::infinity();  // hit point = origin + t direction
+  Vec3 barycentric = Vec3::Zero();  // weights of the triangle's three vertices
+};
+
 class TriangleBvh {
  public:
   // `deforming`: update() will move the vertices; the BVH is then built for refitting
@@ -33,6 +39,10 @@ class TriangleBvh {
   NearestTriangle nearest(const Vec3& p, double max_distance = std::numeric_limits<double>::infinity()) const;
   NearestTriangle nearest_brute_force(const Vec3& p,
                                       double max_distance = std::numeric_limits<double>::infinity()) const;
+
+  // First triangle the ray origin + t direction (t >= 0) crosses (Embree rtcIntersect1;
+  // picking a surface point under the cursor). Thread-safe.
+  RayHit raycast(const Vec3& origin, const Vec3& direction) const;
 
   const std::vector<Vec3>& vertices() const { return m_vertices; }
   const std::vector<std::array<int, 3>>& triangles() const { return m_triangles; }

@@ -5,7 +5,7 @@
 namespace sinew {
 
 const char* row_kind_name(RowKind kind) {
-  static const char* names[] = {"energy", "strain", "contact", "friction"};
+  static const char* names[] = {"energy", "strain", "contact", "friction", "attachment"};
   return names[static_cast<int>(kind)];
 }
 

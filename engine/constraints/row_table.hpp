@@ -14,7 +14,7 @@
 
 namespace sinew {
 
-enum class RowKind { Energy, Strain, Contact, Friction, Count };
+enum class RowKind { Energy, Strain, Contact, Friction, Attachment, Count };
 constexpr int kRowKindCount = static_cast<int>(RowKind::Count);
 const char* row_kind_name(RowKind kind);
 

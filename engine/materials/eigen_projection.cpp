@@ -1,5 +1,6 @@
 #include "engine/materials/eigen_projection.hpp"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
@@ -42,6 +43,39 @@ Mat9 assemble_eigensystem(const SvdEigensystem& system, bool clamp) {
   const Eigenpairs pairs = compute_eigenpairs(system);
   const Vec9 values = clamp ? Vec9(pairs.values.cwiseMax(0.0)) : pairs.values;
   return pairs.vectors * values.asDiagonal() * pairs.vectors.transpose();
+}
+
+Mat9 remove_negative_modes(const Mat9& H, const SvdEigensystem& system) {
+  Mat9 out = H;
+  auto remove = [&](double value, const Mat3& Q) {
+    const Vec9 q = vec_in_frame(system.svd, Q);
+    out.noalias() -= value * q * q.transpose();
+  };
+  const double r = 1 / std::sqrt(2.0);
+  for (int k = 0; k < 3; ++k) {
+    if (system.twist(k) >= 0 && system.flip(k) >= 0) continue;
+    const int i = k == 0 ? 1 : 0;
+    const int j = k == 2 ? 1 : 2;
+    Mat3 Q = Mat3::Zero();
+    Q(i, j) = r;
+    if (system.twist(k) < 0) {
+      Q(j, i) = -r;
+      remove(system.twist(k), Q);
+    }
+    if (system.flip(k) < 0) {
+      Q(j, i) = r;
+      remove(system.flip(k), Q);
+    }
+  }
+  // The scaling block is PSD when its LDL^T has no negative pivot; only then skip its modes.
+  const Eigen::LDLT<Mat3> ldlt(system.scaling);
+  if (ldlt.info() != Eigen::Success || (ldlt.vectorD().array() < 0).any()) {
+    const Eigen::SelfAdjointEigenSolver<Mat3> scaling(system.scaling);
+    for (int m = 0; m < 3; ++m)
+      if (scaling.eigenvalues()(m) < 0)
+        remove(scaling.eigenvalues()(m), Mat3(scaling.eigenvectors().col(m).asDiagonal()));
+  }
+  return out;
 }
 
 Mat9 project_numerically(const Mat9& H) {

@@ -37,6 +37,11 @@ Eigenpairs compute_eigenpairs(const SvdEigensystem& system);
 // sum_m value_m vec(Q_m) vec(Q_m)^T, with every value replaced by max(value, 0) when clamp.
 Mat9 assemble_eigensystem(const SvdEigensystem& system, bool clamp);
 
+// H, the matrix of `system` assembled some cheaper way, minus its negative modes:
+// H - sum_{value_m < 0} value_m vec(Q_m) vec(Q_m)^T, which is assemble_eigensystem(system, true)
+// up to round-off but builds only the modes it removes (near rest: none, or one twist).
+Mat9 remove_negative_modes(const Mat9& H, const SvdEigensystem& system);
+
 // Nearest PSD matrix by a numerical eigen-decomposition (Eigen's SelfAdjointEigenSolver, values
 // clamped at 0): the reference the closed form is tested against, and the fallback for a
 // material without a closed-form eigensystem (none so far).

@@ -1,7 +1,6 @@
 #include "engine/materials/invariant_material.hpp"
 
 #include <Eigen/Geometry>
-#include <Eigen/Geometry>
 
 namespace sinew {
 
@@ -55,6 +54,10 @@ Mat9 InvariantMaterial::hessian(const Mat3& F) const {
   Mat9 H = 4 * t.f2 * f * f.transpose() + t.g2 * c * c.transpose() + t.g1 * cofactor_hessian(F);
   H.diagonal().array() += 2 * t.f1;
   return H;
+}
+
+Mat9 InvariantMaterial::projected_hessian(const Mat3& F) const {
+  return remove_negative_modes(hessian(F), eigensystem(F));
 }
 
 SvdEigensystem InvariantMaterial::eigensystem(const Mat3& F) const {

@@ -35,6 +35,8 @@ class InvariantMaterial : public IsotropicMaterial {
   Mat3 pk1(const Mat3& F) const override;
   Mat9 hessian(const Mat3& F) const override;
   SvdEigensystem eigensystem(const Mat3& F) const override;
+  // hessian(F) without its negative modes: cheaper than assembling all nine.
+  Mat9 projected_hessian(const Mat3& F) const override;
   // The material's f, g and derivatives (public so tests can check them directly).
   virtual InvariantTerms terms(double Ic, double J) const = 0;
 };

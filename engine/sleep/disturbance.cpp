@@ -51,6 +51,9 @@ void wake_disturbed_bodies(const Model& model, State& state) {
         !seg(state.v).isZero(0))
       wake_island(sleep, b);
   }
+  // A grabbed body (ui/ attachments) is being moved by the caller: awake while held.
+  for (const Attachment& a : state.attachments)
+    if (sleep.asleep[a.body]) wake_island(sleep, a.body);
 }
 
 }  // namespace sinew

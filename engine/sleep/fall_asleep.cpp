@@ -62,6 +62,7 @@ void update_sleep(const Model& model, const VecX& v0, State& state) {
     const bool quiet = motion.speed <= cfg.sleep_speed && motion.acceleration <= cfg.sleep_acceleration;
     sleep.quiet_steps[b] = quiet ? sleep.quiet_steps[b] + 1 : 0;
   }
+  for (const Attachment& a : state.attachments) sleep.quiet_steps[a.body] = 0;  // held: never asleep
 
   // An island sleeps when all its bodies have been quiet long enough and nothing is about
   // to move any of them during the next step.

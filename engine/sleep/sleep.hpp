@@ -5,7 +5,8 @@
 // (an island), unless something is about to move it. A sleeping body keeps x, has v = 0 and
 // costs no element, row or solver work; it wakes, with its island, when a row of an awake
 // body touches it, an obstacle moves within the contact margin of it, a load on it ramps,
-// a driven node of it moves, its external force changes or a caller gives it a velocity.
+// a driven node of it moves, its external force changes, a caller gives it a velocity or
+// holds one of its vertices (State::attachments: a grab).
 // World::step calls wake_disturbed_bodies before the stages and update_sleep after them;
 // the stages see freeze_sleeping_bodies' model while some bodies sleep, and nothing runs
 // while all do. docs/ARCHITECTURE.md, "Sleeping bodies", has the whole design.

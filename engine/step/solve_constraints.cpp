@@ -1,10 +1,12 @@
 #include <algorithm>
 
 #include "engine/assembly/scatter_stiffness.hpp"
+#include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/body_contact_rows.hpp"
 #include "engine/constraints/contact_rows.hpp"
 #include "engine/constraints/energy_limit.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
+#include "engine/constraints/solve_column_cache.hpp"
 #include "engine/constraints/strain_limit_rows.hpp"
 #include "engine/step/stages.hpp"
 
@@ -20,7 +22,8 @@ namespace {
 // their own, and waiting for the penetration to exceed the tolerance would let bodies slide
 // freely on the steps in between (and sink, when g h^2 < contact_tolerance).
 double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
-                  const std::vector<uint64_t>& keep, RowTable& rows, BodySurfaces& surfaces, StepProfile& profile) {
+                  const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
+                  BodySurfaces& surfaces, StepProfile& profile) {
   rows.clear();
   const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
   profile.violation["energy"] = std::max(0.0, energy);
@@ -37,11 +40,16 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
     worst = std::max(worst, penetration / model.solver.contact_tolerance);
     if (k == 0 && penetration > 0) worst = std::max(worst, 2.0);
   }
+  if (!attachments.empty()) {
+    const double gap = add_attachment_rows(model, attachments, x, rows);
+    profile.violation["attachment"] = gap;
+    worst = std::max(worst, gap / model.solver.contact_tolerance);
+  }
   return worst;
 }
 
-bool has_constraints(const Model& model) {
-  return !model.obstacles.empty() || model.bodies.size() > 1 || model.has_strain_limits ||
+bool has_constraints(const Model& model, const State& s) {
+  return !s.attachments.empty() || !model.obstacles.empty() || model.bodies.size() > 1 || model.has_strain_limits ||
          std::any_of(model.element_Umax.begin(), model.element_Umax.end(), [](double u) { return u > 0; });
 }
 
@@ -101,7 +109,7 @@ void update_curvature(const Model& model, State& s) {
 // by more than sqp_position_tolerance.
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
-  const bool constrained = has_constraints(model);
+  const bool constrained = has_constraints(model, s);
   if (!constrained && s.factor_exact) {
     profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
     profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles, no energy or strain limits";
@@ -115,7 +123,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   std::vector<uint64_t> keep;
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
-  int sqp = 0, pgs = 0, refactorisations = 0;
+  int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0;
   double last_move = 1e300, previous_move = 1e300;
   for (int k = 0;; ++k) {
     const double worst = [&] {
@@ -124,12 +132,12 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         s.rows.clear();
         return 0.0;
       }
-      return build_rows(model, s.t + h, k, x0 + h * s.v, s.v, keep, s.rows, s.body_surfaces, profile);
+      return build_rows(model, s.t + h, k, x0 + h * s.v, s.v, keep, s.attachments, s.rows, s.body_surfaces, profile);
     }();
     const int m = s.rows.size();
     if (k == 0 && s.factor_exact && (m == 0 || worst <= 1)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) break;
-    if (k == cfg.sqp_max_iterations) break;
+    if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp)) break;
     ++sqp;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
@@ -169,14 +177,15 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         }
         Y = s.dense_inverse * Jt.sparseView();
       } else {
-        solver.solve_many(Jt, Y);
+        solved_columns += s.solve_columns.columns(s.rows, Jt, Y, [&](const MatX& B, MatX& X) { solver.solve_many(B, X); });
       }
       const MatX W = delassus(model, s.rows, Y);
       solve_timer.stop();
       StageTimer pgs_timer(profile, Stage::Pgs);
       // C_k + h J (v - v_k) >= 0 with v = v_base + Y lambda.
       const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + Jt.transpose() * (v_base - v_free);
-      pgs += solve_pgs(W, c, s.rows, cfg.pgs_max_iterations, cfg.pgs_tolerance).iterations;
+      pgs += solve_pgs(W, c, s.rows, IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
+                 .iterations;
       v_next += Y * Eigen::Map<const VecX>(s.rows.lambda.data(), m);
     }
     previous_move = last_move;
@@ -207,6 +216,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   profile.iterations["sqp"] += sqp;
   profile.iterations["pgs"] += pgs;
   if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
+  if (solved_columns) profile.iterations["solved_columns"] += solved_columns;
 }
 
 }  // namespace sinew

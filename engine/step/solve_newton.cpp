@@ -164,6 +164,13 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   double first_norm = -1;
   bool ok = true, factorised = false, exact = false;
   SparseMatrix H = A0;
+  // Newton's matrix is the Hessian of Phi alone. The previous step's constraint curvature
+  // (which factorize_step_system would add) has no term in Phi's gradient: with it the
+  // Newton steps were wrong and every step ran to the iteration cap once energy rows had
+  // been active (found by tools/stress). solve_constraints rebuilds the curvature from its
+  // own rows.
+  state.curvature.clear();
+  state.curvature_blocks.clear();
   auto factorize = [&] {
     StageTimer timer(state.profile, Stage::Factorize);
     state.system = H;
@@ -216,7 +223,8 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // Converged: the factorisation of the last iterate's Hessian stays (one is made if the
     // start was already converged, for solve_constraints).
     state.profile.violation["newton_residual"] = first_norm > 0 ? norm / first_norm : 0.0;
-    if (norm <= cfg.newton_tolerance * first_norm || norm == 0 || newton == cfg.newton_max_iterations) {
+    const int newton_cap = IterationCaps::effective(cfg.newton_max_iterations, state.caps.newton);
+    if (norm <= cfg.newton_tolerance * first_norm || norm == 0 || newton == newton_cap) {
       if (!factorised) ok = factorize();
       if (!ok && exact) {  // the exact Hessian at the result is not SPD: leave a projected one
         exact = false;

@@ -48,3 +48,31 @@ TEST_CASE("triangle bvh: Embree nearest triangle equals the brute-force one, als
   check_against_brute_force(bvh, rng);
   CHECK((bvh.vertices()[7] - moved[7]).norm() == 0);
 }
+
+// Rays from outside towards the centre hit the ellipsoid where the surface is: the hit
+// point (origin + t dir) equals the barycentric point of the hit triangle and lies on the
+// surface x^2/a^2 + y^2/b^2 + z^2/c^2 = 1 up to the mesh's chordal error.
+TEST_CASE("triangle bvh: raycast hits the first surface along the ray") {
+  const TriMesh mesh = ellipsoid_mesh();
+  const TriangleBvh bvh(mesh.vertices, mesh.triangles, false);
+  std::mt19937 rng(3);
+  std::normal_distribution<double> n(0, 1);
+  for (int trial = 0; trial < 200; ++trial) {
+    const Vec3 from = 3 * Vec3(n(rng), n(rng), n(rng)).normalized();
+    const Vec3 dir = (-from).normalized();
+    const RayHit hit = bvh.raycast(from, dir);
+    REQUIRE(hit.triangle >= 0);
+    const auto& t = mesh.triangles[size_t(hit.triangle)];
+    const Vec3 on_triangle = hit.barycentric[0] * mesh.vertices[size_t(t[0])] +
+                             hit.barycentric[1] * mesh.vertices[size_t(t[1])] +
+                             hit.barycentric[2] * mesh.vertices[size_t(t[2])];
+    // Embree works in float: ~1e-7 relative of the 3 m ray.
+    CHECK((from + hit.t * dir - on_triangle).norm() < 1e-5);
+    const Vec3 p = on_triangle.cwiseQuotient(Vec3(0.5, 0.3, 0.4));
+    CHECK(std::abs(p.norm() - 1) < 0.05);  // the 0.05 m mesh's chords sit just inside
+    CHECK(hit.barycentric.minCoeff() >= -1e-6);
+    // The first surface: the entry point faces the ray's origin.
+    CHECK(on_triangle.dot(from) > 0);
+  }
+  CHECK(bvh.raycast(Vec3(3, 3, 3), Vec3(1, 0, 0)).triangle == -1);
+}

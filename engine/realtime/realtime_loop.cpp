@@ -1,0 +1,35 @@
+#include "engine/realtime/realtime_loop.hpp"
+
+#include <thread>
+
+namespace sinew {
+
+RealtimeLoop::RealtimeLoop(const SolverDesc& scene, const RealtimeSettings& settings) : m_settings(settings) {
+  if (settings.budget_ms > 0) m_budget.emplace(scene, settings.budget_ms);
+}
+
+FrameStats RealtimeLoop::frame(World& world, int steps) {
+  if (m_counters.frames == 0) m_start = Clock::now();
+  if (m_settings.paced) {
+    const auto slot = m_start + std::chrono::duration_cast<Clock::duration>(
+                                    std::chrono::duration<double>(m_counters.frames / m_settings.fps));
+    std::this_thread::sleep_until(slot);
+  }
+  const auto frame_start = Clock::now();
+  FrameStats stats = simulate_frame(world, steps, [&](int i) {
+    if (!m_budget) {
+      world.mutable_state().caps = {};
+      return;
+    }
+    const double elapsed = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+    world.mutable_state().caps = m_budget->caps(elapsed, steps - i, world.profile());
+  });
+  const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+  ++m_counters.frames;
+  if (m_budget && frame_ms > m_budget->budget_ms()) ++m_counters.over_budget;
+  m_counters.simulated_s += world.model().h * steps;
+  m_counters.wall_s = std::chrono::duration<double>(Clock::now() - m_start).count();
+  return stats;
+}
+
+}  // namespace sinew

@@ -1,0 +1,80 @@
+// The budget's caps from measured costs (synthetic profiles: no clock involved), and the
+// solver stages honouring the caps.
+#include <doctest/doctest.h>
+
+#include "engine/realtime/budget_controller.hpp"
+#include "engine/world.hpp"
+
+using namespace sinew;
+
+namespace {
+
+// A step that spent 1 ms on fixed work and `sqp` SQP iterations of 2 ms each (rows 0.5,
+// solves 1, PGS 0.5 per iteration).
+StepProfile linear_step(int sqp) {
+  StepProfile p;
+  p.ms[static_cast<int>(Stage::Assemble)] = 0.6;
+  p.ms[static_cast<int>(Stage::Factorize)] = 0.3;
+  p.ms[static_cast<int>(Stage::Integrate)] = 0.1;
+  p.ms[static_cast<int>(Stage::Rows)] = 0.5 * sqp;
+  p.ms[static_cast<int>(Stage::SqpSolve)] = 1.0 * sqp;
+  p.ms[static_cast<int>(Stage::Pgs)] = 0.5 * sqp;
+  p.iterations["sqp"] = sqp;
+  p.step_ms = 1.0 + 2.0 * sqp;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("budget controller: SQP caps are what fits in the time left per step") {
+  SolverDesc scene;
+  scene.sqp_max_iterations = 10;
+  scene.pgs_max_iterations = 200;
+  const BudgetController budget(scene, 16.0);
+  // Nothing measured yet: the scene's caps.
+  CHECK(budget.caps(0, 1, StepProfile{}).sqp == 0);
+  // One step of 16 ms: 1 ms fixed, 15 ms for SQP at 2 ms each -> 7 iterations.
+  CHECK(budget.caps(0, 1, linear_step(4)).sqp == 7);
+  // Two steps left and 4 ms gone: 6 ms each -> (6 - 1) / 2 = 2 iterations.
+  CHECK(budget.caps(4, 2, linear_step(4)).sqp == 2);
+  // Plenty of time: the scene's cap, never more.
+  CHECK(budget.caps(0, 1, linear_step(1)).sqp == 7);
+  CHECK(BudgetController(scene, 1000).caps(0, 1, linear_step(4)).sqp == 10);
+  CHECK(BudgetController(scene, 1000).caps(0, 1, linear_step(4)).pgs == 200);
+  // Over budget already: one iteration (a step always progresses), PGS cut down.
+  const IterationCaps late = budget.caps(20, 1, linear_step(4));
+  CHECK(late.sqp == 1);
+  CHECK(late.pgs == 1);
+}
+
+TEST_CASE("budget controller: Newton caps for hyperelastic steps") {
+  SolverDesc scene;
+  scene.newton_max_iterations = 20;
+  StepProfile p;  // 3 Newton iterations of 2 ms (assemble 1, factorize 0.8, solve 0.2), 0.5 ms fixed
+  p.ms[static_cast<int>(Stage::Assemble)] = 3;
+  p.ms[static_cast<int>(Stage::Factorize)] = 2.4;
+  p.ms[static_cast<int>(Stage::Solve)] = 0.6;
+  p.iterations["newton"] = 3;
+  p.step_ms = 6.5;
+  CHECK(BudgetController(scene, 10).caps(0, 1, p).newton == 4);  // (10 - 0.5) / 2
+  CHECK(BudgetController(scene, 1).caps(0, 1, p).newton == 1);
+}
+
+TEST_CASE("iteration caps: a step honours caps below the scene's") {
+  const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"sqp_max_iterations": 10},
+    "bodies": [{"name": "b", "shape": [{"type": "box", "half_extents": [0.2, 0.1, 0.1]}], "cell_size": 0.1,
+      "material": {"E": 1e5, "nu": 0.3, "rho": 1000}}],
+    "obstacles": [{"type": "plane", "point": [0, -0.12, 0], "normal": [0, 1, 0]}]})";
+  World world(build_model(parse_scene_text(text, "t", "."), [](const std::string&) {}));
+  int most_sqp = 0, most_pgs = 0;
+  world.mutable_state().caps = IterationCaps{1, 3, 0};
+  for (int s = 0; s < 30; ++s) {
+    REQUIRE(world.step());
+    const auto& it = world.profile().iterations;
+    most_sqp = std::max(most_sqp, it.count("sqp") ? it.at("sqp") : 0);
+    most_pgs = std::max(most_pgs, it.count("pgs") ? it.at("pgs") : 0);
+  }
+  CHECK(most_sqp == 1);
+  CHECK(most_pgs <= 3);  // one SQP iteration of at most 3 sweeps
+  CHECK(most_pgs >= 1);  // the box did land: the LCP ran
+}
