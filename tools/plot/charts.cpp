@@ -313,8 +313,15 @@ void draw_line_chart(Canvas& c, Rect area, const LineChart& chart) {
   else nice_range(y_lo, y_hi, 6);
   const std::vector<double> x_ticks = chart.log_x ? log_ticks(x_lo, x_hi) : linear_ticks(x_lo, x_hi, 6);
   const std::vector<double> y_ticks = chart.log_y ? log_ticks(y_lo, y_hi) : linear_ticks(y_lo, y_hi, 6);
+  std::vector<std::string> names;
+  std::vector<std::pair<std::string, Rgb>> entries;
+  for (size_t k = 0; k < chart.series.size(); ++k) {
+    names.push_back(chart.series[k].name);
+    entries.emplace_back(chart.series[k].name, series_color(int(k)));
+  }
   Axes ax;
-  ax.plot = layout(area, scale, max_label_width(y_ticks, scale), 0);
+  const int column = chart.legend == LegendPlace::Right ? legend_width(names, scale) : 0;
+  ax.plot = layout(area, scale, max_label_width(y_ticks, scale), column);
   ax.x_lo = x_lo, ax.x_hi = x_hi, ax.y_lo = y_lo, ax.y_hi = y_hi;
   ax.log_x = chart.log_x, ax.log_y = chart.log_y;
   draw_axes(c, area, ax, x_ticks, y_ticks, chart.title, chart.x_label, chart.y_label, scale);
@@ -335,17 +342,15 @@ void draw_line_chart(Canvas& c, Rect area, const LineChart& chart) {
         else c.fill_polygon({{q.x, q.y - 1.3 * r}, {q.x + 1.3 * r, q.y}, {q.x, q.y + 1.3 * r}, {q.x - 1.3 * r, q.y}}, color);
       }
   }
-  // Legend in the top-right corner of the plot, on a framed white box.
-  std::vector<std::string> names;
-  std::vector<std::pair<std::string, Rgb>> entries;
-  for (size_t k = 0; k < chart.series.size(); ++k) {
-    names.push_back(chart.series[k].name);
-    entries.emplace_back(chart.series[k].name, series_color(int(k)));
+  const Rect& p = ax.plot;
+  if (entries.empty() || chart.legend == LegendPlace::None) return;
+  if (chart.legend == LegendPlace::Right) {  // in the column layout() left, as the stacked chart's
+    draw_legend(c, p.x + p.width + 3 * 4 * scale, p.y, entries, scale);
+    return;
   }
-  if (entries.empty()) return;
+  // Legend in the top-right corner of the plot, on a framed white box.
   const int th = Canvas::text_height(scale), pad = 4 * scale;
   const double w = legend_width(names, scale) + 2 * pad, h = (2 * entries.size() - 1) * th + 2 * pad;
-  const Rect& p = ax.plot;
   const double x0 = p.x + p.width - pad - w, y0 = p.y + pad;
   c.fill_rect(x0, y0, x0 + w, y0 + h, kBackground);
   c.line({snap(x0), snap(y0)}, {snap(x0 + w), snap(y0)}, kInk);

@@ -60,10 +60,16 @@ struct Series {
   bool lines = true, markers = true;
 };
 
+// Where a line chart puts its legend: over the top-right corner of the plot, in a column
+// right of the plot (which then narrows; nothing is covered), or nowhere (e.g. a second
+// chart whose series are the first's).
+enum class LegendPlace { Inside, Right, None };
+
 struct LineChart {
   std::string title, x_label, y_label;
   std::vector<Series> series;  // colour and marker shape (square, triangle, diamond) by index
   bool log_x = true, log_y = true;  // points with a non-positive coordinate on a log axis are left out
+  LegendPlace legend = LegendPlace::Inside;
   int text_scale = 2;
 };
 void draw_line_chart(Canvas& canvas, Rect area, const LineChart& chart);

@@ -120,3 +120,32 @@ TEST_CASE("charts: log-log line chart draws every series and stays inside its ar
     for (int x = 0; x < c.width(); ++x)
       if (x < 50 || x >= 650 || y < 50 || y >= 450) REQUIRE(c.pixel(x, y) == plot::Rgb{0, 0, 0});
 }
+
+TEST_CASE("charts: a line chart's legend inside, in a column on the right, or none") {
+  plot::LineChart chart;
+  plot::Series s;
+  s.name = "only series";
+  s.x = {1, 10};
+  s.y = {1, 10};
+  s.lines = s.markers = false;  // so that only the legend could draw the series colour
+  chart.series.push_back(s);
+  Canvas inside(600, 400), right(600, 400), none(600, 400);
+  plot::draw_line_chart(inside, {0, 0, 600, 400}, chart);
+  chart.legend = plot::LegendPlace::Right;
+  plot::draw_line_chart(right, {0, 0, 600, 400}, chart);
+  chart.legend = plot::LegendPlace::None;
+  plot::draw_line_chart(none, {0, 0, 600, 400}, chart);
+  CHECK(inside.count(plot::series_color(0)) > 0);
+  CHECK(none.count(plot::series_color(0)) == 0);
+  // On the right: the swatch is drawn in the column beside the plot (the name is short, so
+  // the column is narrow): all of it in the right third of the canvas.
+  long left_part = 0, total = 0;
+  for (int y = 0; y < 400; ++y)
+    for (int x = 0; x < 600; ++x)
+      if (right.pixel(x, y) == plot::series_color(0)) {
+        ++total;
+        left_part += x < 400;
+      }
+  CHECK(total > 0);
+  CHECK(left_part == 0);
+}
