@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The test command: installs what is missing, builds, runs the tests through ctest.
-#   1. sanitizers: the unit tests built with AddressSanitizer + UBSan at -O1 (build-asan/,
-#      SINEW_SANITIZE=ON); the long scene, session, render, accuracy and stress tests are left
-#      to stage 3, which keeps this stage to a few minutes;
+#   1. sanitizers, only with SINEW_SANITIZER_STAGE=1 (not yet verified to pass within CI's
+#      time: opt-in until it is): the unit tests built with AddressSanitizer + UBSan at -O1
+#      (build-asan/, SINEW_SANITIZE=ON), without the long scene, session, render, accuracy
+#      and stress tests;
 #   2. fuzzing: every libFuzzer target of tools/fuzz/ for SINEW_FUZZ_SECONDS each (default 10;
 #      build-fuzz/);
 #   3. the normal build and all tests (build/): ctest's summary is the last line printed.
@@ -14,7 +15,7 @@ bash tools/setup.sh
 jobs=$(nproc)
 early_failures=()
 
-if [[ "${SINEW_QUICK_TEST:-0}" != 1 ]]; then
+if [[ "${SINEW_QUICK_TEST:-0}" != 1 && "${SINEW_SANITIZER_STAGE:-0}" == 1 ]]; then
   echo "== 1. sanitizers: unit tests under ASan + UBSan (build-asan/)"
   long_tests='scenes/|ui/|render/|accuracy/|stress|tools/test_cli|test_thread_determinism|test_sleep'
   if ! (cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE=-O1 \
@@ -27,6 +28,8 @@ if [[ "${SINEW_QUICK_TEST:-0}" != 1 ]]; then
     early_failures+=(sanitizers)
     echo "!! stage 1 (sanitizers) FAILED: see above; the script will exit non-zero"
   fi
+fi
+if [[ "${SINEW_QUICK_TEST:-0}" != 1 ]]; then
   echo "== 2. fuzzing: ${SINEW_FUZZ_SECONDS:-10} s per target (build-fuzz/)"
   if ! bash tools/fuzz.sh "${SINEW_FUZZ_SECONDS:-10}"; then
     early_failures+=(fuzzing)
