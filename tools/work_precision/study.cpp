@@ -60,8 +60,9 @@ class FamilyRunner {
   }
 
  private:
-  // The converged reference of `variant` on the lattice of `lattice` (a refining sweep and
-  // its value, or none: the scene's own lattice), loaded or computed and cached.
+  // The converged reference of `variant` (h_divisor 16; with 1: the tight tolerances at the
+  // scene's own h) on the lattice of `lattice` (a refining sweep and its value, or none: the
+  // scene's own lattice), read from the cache or computed and cached.
   const CachedReference& reference(size_t variant, const Sweep* lattice, double value, int h_divisor = 16) {
     Prepared p = load_variant(m_family, m_family.variants[variant], m_options);
     if (lattice) lattice->apply(p.scene, value);
