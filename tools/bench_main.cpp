@@ -8,12 +8,12 @@
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/stats_summary.hpp"
 #include "engine/simulate_frame.hpp"
+#include "tools/bench_common.hpp"
 
 using namespace sinew;
 
@@ -101,13 +101,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
     std::printf("  %-12s median %9.4f ms   p95 %9.4f ms   max %9.4f ms\n", s.name.c_str(), s.median,
                 s.p95, s.max);
   }
-  std::vector<double> rows, sqp;
-  for (const FrameStats& f : samples) {
-    double total = 0;
-    for (const auto& [kind, n] : f.rows) total += n;
-    rows.push_back(total);
-    sqp.push_back(f.iterations.count("sqp") ? f.iterations.at("sqp") : 0);
-  }
+  const std::vector<double> rows = bench::row_totals(samples), sqp = bench::iteration_counts(samples, "sqp");
   std::printf("  constraint rows median %.0f max %.0f, SQP iterations median %.0f\n", quantile(rows, 0.5),
               quantile(rows, 1.0), quantile(sqp, 0.5));
   return {{"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
@@ -144,7 +138,7 @@ int main(int argc, char** argv) {
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
-  nlohmann::json results = {{"threads", threads > 0 ? threads : static_cast<int>(std::thread::hardware_concurrency())},
+  nlohmann::json results = {{"threads", threads > 0 ? threads : bench::processor_count()},
                             {"scenes", nlohmann::json::object()}};
   for (const BenchScene& bench : all_scenes()) {
     if (!only.empty() && bench.name != only) continue;

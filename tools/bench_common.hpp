@@ -1,0 +1,26 @@
+#pragma once
+// What the benchmark programs share (sinew_bench, sinew_scale_sweep): counts read from the
+// per-step stats of timed steps, and facts about the machine a run was made on.
+#include <array>
+#include <string>
+#include <vector>
+
+#include "engine/io/stats_writer.hpp"
+
+namespace sinew::bench {
+
+// Active constraint rows of each sample, all kinds together.
+std::vector<double> row_totals(const std::vector<FrameStats>& samples);
+// One solver's (or event's) count per sample ("sqp", "pgs", ...); 0 where absent.
+std::vector<double> iteration_counts(const std::vector<FrameStats>& samples, const std::string& solver);
+
+// The 1, 5 and 15 minute load averages from /proc/loadavg (-1 each when unreadable).
+std::array<double, 3> load_average();
+// "model name" of /proc/cpuinfo, or "unknown CPU".
+std::string cpu_model();
+// Logical processors (std::thread::hardware_concurrency()).
+int processor_count();
+// "YYYY-MM-DD HH:MM UTC".
+std::string utc_now();
+
+}  // namespace sinew::bench
