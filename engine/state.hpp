@@ -7,7 +7,8 @@
 #include "engine/collision/body_surfaces.hpp"
 #include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/row_table.hpp"
-#include "engine/constraints/solve_column_cache.hpp"
+#include "engine/constraints/delassus.hpp"
+#include "engine/constraints/touched_inverse.hpp"
 #include "engine/core/types.hpp"
 #include "engine/profile.hpp"
 #include "engine/sleep/sleep_state.hpp"
@@ -27,10 +28,10 @@ struct State {
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
-  MatX dense_inverse;                // H^-1 as a dense matrix, when rows outnumber DOFs (constraints)
-  bool dense_inverse_valid = false;  // dense_inverse matches the solver's factorisation
-  MatX constraint_dirs;              // 3 * free x rows: J^T, then A^-1 J^T (constraints, scratch)
-  SolveColumnCache solve_columns;    // columns of constraint_dirs kept while H is unchanged (constraints)
+  TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
+  Delassus delassus;                 // W = J H^-1 J^T of the current SQP iteration (constraints)
+  std::vector<int> touched_scratch, local_node;  // scratch of the constraint solve
+  MatX constraint_scratch;           // J^T when W is formed from one solve per row (constraints)
   SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
   std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from
                                      // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T

@@ -43,7 +43,7 @@ void World::apply_sleeping_set() {
   s.rhs = VecX::Zero(3 * model.num_free);
   s.v_free = VecX::Zero(3 * model.num_free);
   s.factor_age = m_model.solver.refactor_interval;  // no reuse of a factorisation of the old pattern
-  s.dense_inverse_valid = false;
+  s.touched_inverse.reset(model.num_free);
   m_solver.reset_pattern();
 }
 
@@ -56,7 +56,58 @@ void World::rest_step() {
   ++s.step_count;
 }
 
+// A failed attempt is rolled back (attempt_step) and retried, deterministically: first
+// afresh (a new factorisation, no warm start, no constraint curvature: what a step carries
+// over from the last one is the usual suspect), then as 2 and then 4 sub-steps of h/2 and
+// h/4 (each sub-step afresh too). t and step_count advance as for one step of h.
 bool World::step() {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  State& s = m_state;
+  if (attempt_step()) return true;
+  const double t0 = s.t, h = m_model.h;
+  const long count0 = s.step_count;
+  const VecX x0 = s.x, v0 = s.v;
+  int retries = 1;
+  bool ok = false;
+  for (const int substeps : {1, 2, 4}) {
+    set_step_size(h / substeps);
+    ok = true;
+    for (int k = 0; k < substeps && ok; ++k) {
+      forget_previous_step();
+      ok = attempt_step();
+    }
+    if (ok) break;
+    ++retries;
+    s.x = x0, s.v = v0, s.t = t0, s.step_count = count0;
+  }
+  set_step_size(h);
+  if (ok) {
+    s.t = t0 + h;
+    s.step_count = count0 + 1;
+  } else {
+    forget_previous_step();
+  }
+  s.profile.finite = ok;
+  s.profile.iterations["step_retries"] = retries;
+  s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  return ok;
+}
+
+void World::set_step_size(double h) {
+  m_model.h = h;
+  if (m_frozen) m_frozen->h = h;
+}
+
+void World::forget_previous_step() {
+  State& s = m_state;
+  s.factor_age = m_model.solver.refactor_interval;
+  s.warm_start.clear();
+  s.curvature.clear();
+  s.curvature_blocks.clear();
+}
+
+bool World::attempt_step() {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   State& s = m_state;

@@ -12,9 +12,11 @@ class World {
  public:
   explicit World(Model model, const std::vector<Vec3>& initial_velocity = {});
 
-  // Advances by model().h. Returns false, with the state rolled back to the start of
-  // the step and profile().finite == false, if a NaN/Inf appeared or the system matrix
-  // could not be factorised.
+  // Advances by model().h. A step that meets a NaN/Inf, a system matrix it cannot
+  // factorise or a node faster than solver.max_speed is rolled back and retried afresh,
+  // then as 2 and 4 sub-steps (profile().iterations["step_retries"] counts the failed
+  // attempts). Returns false, with the state rolled back to the start of the step and
+  // profile().finite == false, if every retry failed too.
   bool step();
 
   const Model& model() const { return m_model; }
@@ -34,6 +36,11 @@ class World {
   void apply_sleeping_set();
   // A step while every body sleeps: only time advances.
   void rest_step();
+  // One attempt at a step of m_model.h; on failure x and v are rolled back.
+  bool attempt_step();
+  void set_step_size(double h);  // of m_model and m_frozen
+  // Drops what a step inherits from the previous one: factorisation, multipliers, curvature.
+  void forget_previous_step();
 
   Model m_model;
   std::unique_ptr<Model> m_frozen;  // sleepers frozen (engine/sleep/sleep.hpp); null when all are awake

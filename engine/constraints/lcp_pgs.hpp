@@ -4,18 +4,94 @@
 //   lambda_i = lo_i => w_i >= 0,  lambda_i = hi_i => w_i <= 0,  otherwise w_i = 0.
 // Friction rows take lo = -mu lambda_n, hi = +mu lambda_n from their normal row, updated
 // as the sweep goes (a box approximation of the Coulomb cone, two rows per contact).
+#include <algorithm>
+#include <cmath>
+
 #include "engine/constraints/row_table.hpp"
 
 namespace sinew {
 
 struct PgsResult {
   int iterations = 0;
-  double change = 0;  // largest |delta lambda| of the last sweep, relative to max |lambda|
+  double residual = 0;  // largest weighted natural residual of the last sweep (see solve_pgs)
 };
 
-// W: dense rows x rows, symmetric positive semi-definite with a positive diagonal.
-// Starts from rows.lambda (warm start), clamped into the bounds; writes it back.
-PgsResult solve_pgs(const MatX& W, const VecX& c, RowTable& rows, int max_iterations, double tolerance);
+// Row i's multiplier bounds at the current lambda (friction rows follow their normal row).
+inline void pgs_bounds(const RowTable& rows, const VecX& lambda, int i, double& lo, double& hi) {
+  const int n = rows.normal_row[i];
+  if (n < 0) {
+    lo = rows.lo[i], hi = rows.hi[i];
+  } else {
+    hi = rows.mu[i] * std::max(0.0, lambda[n]);
+    lo = -hi;
+  }
+}
+
+// W given through an operator (delassus.hpp, or DenseLcpMatrix below) with
+//   diagonal(i), start(lambda, c) (w = W lambda + c from scratch), w(i), changed(i, delta).
+// W symmetric positive semi-definite with a positive diagonal. Starts from rows.lambda (warm
+// start), clamped into the bounds; writes it back. A row that stays clamped (most inactive
+// strain and contact rows) costs only w(i) per sweep; w is restarted from scratch every
+// kRefresh sweeps against drift.
+// Stops when, after a sweep, every row's natural residual
+//   r_i = |clamp(lambda_i - w_i / W_ii, lo_i, hi_i) - lambda_i| W_ii
+// (0 when row i meets its complementarity conditions; in the units of w) times weight_i is
+// at most `tolerance`. It measures the constraints, not the multipliers: with redundant
+// rows (more rows than DOFs: strain limits, contacts embedded in one element) W is
+// singular and lambda may drift for long along its null space while w, and so the motion,
+// has converged. Measured after the sweep, not during it: in a redundant set a row's own
+// update is mostly undone by its neighbours', so the size of the updates says little.
+template <typename Operator>
+PgsResult solve_pgs(Operator& W, const VecX& c, const VecX& weight, RowTable& rows, int max_iterations,
+                    double tolerance) {
+  constexpr int kRefresh = 16;
+  const int m = rows.size();
+  VecX lambda = Eigen::Map<const VecX>(rows.lambda.data(), m);
+  PgsResult result;
+  for (int it = 0; it < max_iterations; ++it) {
+    if (it % kRefresh == 0) W.start(lambda, c);
+    for (int i = 0; i < m; ++i) {
+      double lo, hi;
+      pgs_bounds(rows, lambda, i, lo, hi);
+      const double updated = std::clamp(lambda[i] - W.w(i) / W.diagonal(i), lo, hi);
+      if (const double change = updated - lambda[i]; change != 0) {
+        W.changed(i, change);
+        lambda[i] = updated;
+      }
+    }
+    result.iterations = it + 1;
+    result.residual = 0;
+    for (int i = 0; i < m; ++i) {
+      double lo, hi;
+      pgs_bounds(rows, lambda, i, lo, hi);
+      const double projected = std::clamp(lambda[i] - W.w(i) / W.diagonal(i), lo, hi);
+      result.residual = std::max(result.residual, std::abs(projected - lambda[i]) * W.diagonal(i) * weight[i]);
+    }
+    if (result.residual <= tolerance) break;
+  }
+  std::copy(lambda.data(), lambda.data() + m, rows.lambda.begin());
+  return result;
+}
+
+// A dense W as a solve_pgs operator.
+class DenseLcpMatrix {
+ public:
+  explicit DenseLcpMatrix(const MatX& W) : m_W(W) {}
+  double diagonal(int i) const { return m_W(i, i); }
+  void start(const VecX& lambda, const VecX& c) { m_w.noalias() = m_W * lambda + c; }
+  double w(int i) const { return m_w[i]; }
+  void changed(int i, double delta) { m_w.noalias() += m_W.col(i) * delta; }  // symmetric: column = row
+
+ private:
+  const MatX& m_W;
+  VecX m_w;
+};
+
+// With unit weights: the tolerance is in the units of w.
+inline PgsResult solve_pgs(const MatX& W, const VecX& c, RowTable& rows, int max_iterations, double tolerance) {
+  DenseLcpMatrix op(W);
+  return solve_pgs(op, c, VecX::Ones(rows.size()), rows, max_iterations, tolerance);
+}
 
 // Largest violation of the LCP conditions at lambda (0 at an exact solution), in the
 // units of w; for tests and diagnostics.

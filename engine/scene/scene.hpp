@@ -149,7 +149,10 @@ struct SolverDesc {
   int pcg_max_iterations = 1000;
   // Constraint solver (paper 000, section 5).
   int pgs_max_iterations = 200;
-  double pgs_tolerance = 1e-6;     // stop when the largest multiplier change is below this (relative)
+  double pgs_tolerance = 0.05;     // stop when every row's LCP natural residual, as a change of its
+                                   // C over the step, is below this fraction of its kind's tolerance
+                                   // (contacts: 5e-6 m, below sqp_position_tolerance, so that PGS's
+                                   // error does not keep SQP from converging)
   int sqp_max_iterations = 10;
   double sqp_tolerance = 1e-3;     // worst Ue/Umax - 1 accepted
   double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further

@@ -6,7 +6,6 @@
 #include "engine/constraints/contact_rows.hpp"
 #include "engine/constraints/energy_limit.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
-#include "engine/constraints/solve_column_cache.hpp"
 #include "engine/constraints/strain_limit_rows.hpp"
 #include "engine/step/stages.hpp"
 
@@ -65,16 +64,70 @@ void scatter_free(const Model& model, const VecX& free, VecX& full) {
   }
 }
 
-// W = J Y from the stencils of J and the columns Y = H^-1 J^T.
-MatX delassus(const Model& model, const RowTable& rows, const MatX& Y) {
-  const int m = rows.size();
-  MatX W = MatX::Zero(m, m);
-  for (int i = 0; i < m; ++i)
-    for (int k = rows.begin[i]; k < rows.begin[i + 1]; ++k) {
-      const int f = model.free_index[rows.nodes[k]];
-      if (f >= 0) W.row(i) += rows.jac[k].transpose() * Y.middleRows<3>(3 * f);
-    }
-  return 0.5 * (W + W.transpose());
+// Per row h / (its kind's SQP tolerance): PGS's residual (a velocity, w = J v) times it is
+// the change of C over the step as a fraction of what SQP accepts.
+VecX residual_weights(const SolverDesc& cfg, double h, const RowTable& rows) {
+  VecX weight(rows.size());
+  for (int i = 0; i < rows.size(); ++i) {
+    const RowKind kind = rows.kind[i];
+    const double tolerance = kind == RowKind::Energy   ? cfg.sqp_tolerance
+                             : kind == RowKind::Strain ? cfg.strain_tolerance
+                                                       : cfg.contact_tolerance;
+    weight[i] = h / tolerance;
+  }
+  return weight;
+}
+
+// J u over the rows' stencils (u: free velocities).
+VecX apply_jacobian(const Model& model, const RowTable& rows, const VecX& u) {
+  VecX out = VecX::Zero(rows.size());
+  for (int i = 0; i < rows.size(); ++i)
+    for (int k = rows.begin[i]; k < rows.begin[i + 1]; ++k)
+      if (const int f = model.free_index[rows.nodes[k]]; f >= 0) out[i] += rows.jac[k].dot(u.segment<3>(3 * f));
+  return out;
+}
+
+// J^T lambda on the free DOFs, lambda = rows.lambda.
+VecX apply_jacobian_transpose(const Model& model, const RowTable& rows) {
+  VecX out = VecX::Zero(3 * model.num_free);
+  for (int i = 0; i < rows.size(); ++i)
+    for (int k = rows.begin[i]; k < rows.begin[i + 1]; ++k)
+      if (const int f = model.free_index[rows.nodes[k]]; f >= 0) out.segment<3>(3 * f) += rows.lambda[i] * rows.jac[k];
+  return out;
+}
+
+// W = J H^-1 J^T for this iteration's rows into s.delassus. From H^-1 on the touched
+// nodes (touched_inverse.hpp) when the nodes no earlier row of this factorisation touched
+// cost at most one solve per row (3 per node); otherwise from one solve per row,
+// Y = H^-1 J^T. Returns the columns solved.
+int factor_delassus(const Model& model, LinearSolver& solver, State& s) {
+  const int m = s.rows.size();
+  std::vector<int>& touched = s.touched_scratch;
+  touched.clear();
+  for (const int node : s.rows.nodes)
+    if (const int f = model.free_index[node]; f >= 0 && s.touched_inverse.local(f) < 0) touched.push_back(f);
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  const auto solve_many = [&](const MatX& B, MatX& X) { solver.solve_many(B, X); };
+  if (3 * static_cast<int>(touched.size()) > m) {
+    MatX& Jt = s.constraint_scratch;
+    Jt.setZero(3 * model.num_free, m);
+    for (int i = 0; i < m; ++i)
+      for (int e = s.rows.begin[i]; e < s.rows.begin[i + 1]; ++e)
+        if (const int f = model.free_index[s.rows.nodes[e]]; f >= 0) Jt.block<3, 1>(3 * f, i) += s.rows.jac[e];
+    MatX Y;
+    solve_many(Jt, Y);
+    s.delassus.build_direct(s.rows, model.free_index, Y);
+    return m;
+  }
+  const int solved = s.touched_inverse.require(touched, solve_many);
+  s.local_node.resize(model.num_nodes);
+  for (int n = 0; n < model.num_nodes; ++n) {
+    const int f = model.free_index[n];
+    s.local_node[n] = f >= 0 ? s.touched_inverse.local(f) : -1;
+  }
+  s.delassus.build(s.rows, s.local_node, s.touched_inverse);
+  return solved;
 }
 
 // Per element, h sum_i lambda_i curvature_i over its rows: the constraints' part of the
@@ -100,6 +153,7 @@ void update_curvature(const Model& model, State& s) {
 // each iteration linearises the rows at x_k = x0 + h v_k and solves the QP
 //   H dv = -(A v_k - b) + J^T lambda,   C_k + h J dv >= 0,   lo <= lambda <= hi
 // through the LCP  W lambda + c >= 0 (eq. 23), W = J H^-1 J^T, by PGS; v_k+1 = v_k + dv.
+// W comes from H^-1 on the touched nodes only (touched_inverse.hpp, delassus.hpp).
 // H = A + sum_e curvature_e R Ke R^T holds the constraints' curvature (without it the
 // iteration cycles once the limits carry large forces). H comes from the step's single
 // factorisation (solve_velocity), built with the previous step's multipliers; it is
@@ -159,34 +213,20 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     VecX v_next = v_base;
     if (m > 0) {
-      MatX Jt = MatX::Zero(3 * model.num_free, m);
-      for (int i = 0; i < m; ++i)
-        for (int e = s.rows.begin[i]; e < s.rows.begin[i + 1]; ++e) {
-          const int f = model.free_index[s.rows.nodes[e]];
-          if (f >= 0) Jt.block<3, 1>(3 * f, i) = s.rows.jac[e];
-        }
-      MatX& Y = s.constraint_dirs;
-      const int n = 3 * model.num_free;
-      if (2 * m > n) {
-        // Many rows (strain limits: up to 18 per tet) on few DOFs: one dense H^-1 per
-        // factorisation (n solves), then Y = H^-1 J^T over J's 12 non-zeros per row, is
-        // cheaper than m solves at every SQP iteration.
-        if (!s.dense_inverse_valid) {
-          solver.solve_many(MatX::Identity(n, n), s.dense_inverse);
-          s.dense_inverse_valid = true;
-        }
-        Y = s.dense_inverse * Jt.sparseView();
-      } else {
-        solved_columns += s.solve_columns.columns(s.rows, Jt, Y, [&](const MatX& B, MatX& X) { solver.solve_many(B, X); });
-      }
-      const MatX W = delassus(model, s.rows, Y);
+      solved_columns += factor_delassus(model, solver, s);
       solve_timer.stop();
-      StageTimer pgs_timer(profile, Stage::Pgs);
-      // C_k + h J (v - v_k) >= 0 with v = v_base + Y lambda.
-      const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + Jt.transpose() * (v_base - v_free);
-      pgs += solve_pgs(W, c, s.rows, IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
-                 .iterations;
-      v_next += Y * Eigen::Map<const VecX>(s.rows.lambda.data(), m);
+      {
+        StageTimer pgs_timer(profile, Stage::Pgs);
+        // C_k + h J (v - v_k) >= 0 with v = v_base + H^-1 J^T lambda.
+        const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + apply_jacobian(model, s.rows, v_base - v_free);
+        pgs += solve_pgs(s.delassus, c, residual_weights(cfg, h, s.rows), s.rows,
+                         IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
+                   .iterations;
+      }
+      StageTimer timer(profile, Stage::SqpSolve);
+      VecX correction = VecX::Zero(v_free.size());
+      solver.solve(apply_jacobian_transpose(model, s.rows), correction);
+      v_next += correction;
     }
     previous_move = last_move;
     last_move = h * (v_next - v_free).lpNorm<Eigen::Infinity>();

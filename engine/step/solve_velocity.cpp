@@ -12,8 +12,7 @@ namespace sinew {
 // contacts and limits costs one factorisation, not one per iteration.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state) {
   state.factor_age = 0;
-  state.dense_inverse_valid = false;
-  state.solve_columns.invalidate();
+  state.touched_inverse.reset(model.num_free);
   state.factor_curved = !state.curvature_blocks.empty() ||
                         std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
   if (state.factor_curved) {

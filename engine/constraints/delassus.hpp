@@ -1,0 +1,51 @@
+#pragma once
+// The LCP matrix W = J H^-1 J^T of paper 000, eq. 23, for the rows of a RowTable, from
+// G = H^-1 on the touched nodes (touched_inverse.hpp): with T = G Jc^T (3k x m, k touched
+// nodes), W = Jc T. Projected Gauss-Seidel (lcp_pgs.hpp) needs W's diagonal, w = W lambda + c
+// and its update when one lambda_i changes, which this provides in the cheaper of two forms:
+// - dense (m <= 3k): W formed once (m^2 x stencil), w kept and updated by a column of W (m);
+// - factored (m > 3k, e.g. strain limits: up to 18 rows per tet on 3 DOFs per node):
+//   u = T lambda kept (3k), w_i = c_i + Jc_i u over the row's stencil, update by a column
+//   of T (3k). No m x m matrix at all.
+// Or, when the rows touch so many nodes not solved yet that one solve per row is cheaper
+// (hex energy rows span 8 nodes, embedded contacts too), directly from Y = H^-1 J^T.
+#include <vector>
+
+#include "engine/constraints/row_table.hpp"
+#include "engine/constraints/touched_inverse.hpp"
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+class Delassus {
+ public:
+  // Rows' stencils on touched nodes: `local_node[n]` is the position in `inverse` of global
+  // node n, or -1 (fixed nodes, which carry no velocity). Every free stencil node must have
+  // columns in `inverse`.
+  void build(const RowTable& rows, const std::vector<int>& local_node, const TouchedInverse& inverse);
+  // W = J Y (dense form); `free_index[n]` is the free index of global node n or -1, Y is
+  // 3 free x m.
+  void build_direct(const RowTable& rows, const std::vector<int>& free_index, const MatX& Y);
+
+  int size() const { return static_cast<int>(m_diagonal.size()); }
+  bool dense() const { return m_dense; }
+  double diagonal(int i) const { return m_diagonal[i]; }
+  // The interface of solve_pgs: start from lambda; w_i for the current lambda; lambda_i
+  // changed by delta.
+  void start(const VecX& lambda, const VecX& c);
+  double w(int i) const;
+  void changed(int i, double delta);
+  // W itself (tests, and lcp_residual): formed from T whatever the form.
+  MatX matrix() const;
+
+ private:
+  bool m_dense = false;
+  std::vector<int> m_begin, m_local;  // rows' stencils in touched-node positions
+  std::vector<Vec3> m_jac;
+  MatX m_T;                           // 3k x m: G Jc^T
+  MatX m_W;                           // dense form only
+  std::vector<double> m_diagonal;
+  VecX m_c, m_state;                  // dense: w; factored: u = T lambda
+};
+
+}  // namespace sinew

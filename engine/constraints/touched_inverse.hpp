@@ -1,0 +1,61 @@
+#pragma once
+// The block G = E^T H^-1 E of the inverse of the step's system matrix H on the nodes that
+// constraint rows touch (E selects their 3 DOFs each). Every Delassus product the
+// constraint solve needs is J H^-1 J^T = Jc G Jc^T with Jc the rows' Jacobians on those
+// nodes, so H^-1 is needed on 3 columns per touched node, not one column per row: the
+// rows of strain limits (up to 18 per tet), of contacts embedded in the same element and
+// their friction rows all share node columns. Columns are kept for the life of one
+// factorisation of H, whatever the rows' Jacobians do across SQP iterations; a node
+// touched for the first time costs 3 solves.
+#include <vector>
+
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+class TouchedInverse {
+ public:
+  // Forget everything: H was refactorised. `free_nodes` is the number of free nodes.
+  void reset(int free_nodes);
+
+  // Adds the free nodes of `nodes` (free indices, any order, repeats allowed) that have no
+  // columns yet; `solve_many(B, X)` must compute X = H^-1 B. Returns the columns solved.
+  template <typename SolveMany>
+  int require(const std::vector<int>& nodes, SolveMany&& solve_many);
+
+  // Position of free node f in G (its DOFs are 3 local .. 3 local + 2), or -1.
+  int local(int f) const { return m_local[f]; }
+  int size() const { return static_cast<int>(m_nodes.size()); }  // touched nodes
+  // G on the touched nodes: 3 size() x 3 size(), symmetric.
+  auto block() const { return m_G.topLeftCorner(3 * size(), 3 * size()); }
+
+ private:
+  void grow(int nodes);  // capacity for at least `nodes` touched nodes, keeping G
+  void add_columns(const std::vector<int>& added, const MatX& X);
+
+  std::vector<int> m_local;  // per free node: local index or -1
+  std::vector<int> m_nodes;  // local index -> free node
+  MatX m_G;                  // capacity x capacity (3 DOFs per node); the leading block is valid
+  std::vector<int> m_added;
+  MatX m_B, m_X;
+};
+
+template <typename SolveMany>
+int TouchedInverse::require(const std::vector<int>& nodes, SolveMany&& solve_many) {
+  m_added.clear();
+  for (const int f : nodes)
+    if (f >= 0 && m_local[f] < 0) {
+      m_local[f] = size() + static_cast<int>(m_added.size());
+      m_added.push_back(f);
+    }
+  if (m_added.empty()) return 0;
+  const int n = 3 * static_cast<int>(m_local.size());
+  const int columns = 3 * static_cast<int>(m_added.size());
+  m_B.setZero(n, columns);
+  for (int k = 0; k < columns; ++k) m_B(3 * m_added[k / 3] + k % 3, k) = 1.0;
+  solve_many(m_B, m_X);
+  add_columns(m_added, m_X);
+  return columns;
+}
+
+}  // namespace sinew

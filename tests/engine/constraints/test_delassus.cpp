@@ -1,0 +1,176 @@
+// H^-1 on the touched nodes and the LCP matrix W = J H^-1 J^T built from it (factored and
+// dense forms) or from one solve per row: all against W formed from a dense inverse.
+#include <doctest/doctest.h>
+
+#include <Eigen/Cholesky>
+#include <random>
+
+#include "engine/constraints/delassus.hpp"
+#include "engine/constraints/lcp_pgs.hpp"
+#include "engine/constraints/touched_inverse.hpp"
+
+using namespace sinew;
+
+namespace {
+
+struct Problem {
+  int nodes = 0;              // global nodes; node 0 is fixed
+  std::vector<int> free_index;
+  MatX H;                     // SPD on the free DOFs
+  RowTable rows;
+};
+
+// Rows of 1 to 4 distinct nodes with random Jacobian blocks, some on the fixed node.
+Problem random_problem(int nodes, int rows, std::mt19937& rng) {
+  Problem p;
+  p.nodes = nodes;
+  p.free_index.resize(nodes);
+  for (int n = 0; n < nodes; ++n) p.free_index[n] = n - 1;  // node 0 fixed
+  const int dofs = 3 * (nodes - 1);
+  std::normal_distribution<double> normal;
+  MatX B(dofs, dofs);
+  for (int i = 0; i < dofs; ++i)
+    for (int j = 0; j < dofs; ++j) B(i, j) = normal(rng);
+  p.H = B * B.transpose() + dofs * MatX::Identity(dofs, dofs);
+  std::uniform_int_distribution<int> node(0, nodes - 1), size(1, 4);
+  for (int i = 0; i < rows; ++i) {
+    p.rows.add_row(RowKind::Strain, 0, 0, 1e300, i);
+    std::vector<int> used;
+    for (int k = size(rng); k > 0; --k) {
+      const int n = node(rng);
+      if (std::find(used.begin(), used.end(), n) != used.end()) continue;
+      used.push_back(n);
+      p.rows.add_entry(n, Vec3(normal(rng), normal(rng), normal(rng)));
+    }
+  }
+  return p;
+}
+
+MatX jacobian(const Problem& p) {
+  MatX J = MatX::Zero(p.rows.size(), p.H.rows());
+  for (int i = 0; i < p.rows.size(); ++i)
+    for (int e = p.rows.begin[i]; e < p.rows.begin[i + 1]; ++e)
+      if (const int f = p.free_index[p.rows.nodes[e]]; f >= 0) J.block<1, 3>(i, 3 * f) += p.rows.jac[e].transpose();
+  return J;
+}
+
+// The touched inverse for p's rows, filled in two batches (to exercise growth).
+TouchedInverse touched_inverse(const Problem& p, const Eigen::LLT<MatX>& llt, std::vector<int>& local_node) {
+  TouchedInverse inverse;
+  inverse.reset(p.nodes - 1);
+  std::vector<int> free_nodes;
+  for (const int n : p.rows.nodes) free_nodes.push_back(p.free_index[n]);
+  const auto solve = [&](const MatX& B, MatX& X) { X = llt.solve(B); };
+  const std::vector<int> first(free_nodes.begin(), free_nodes.begin() + free_nodes.size() / 2);
+  CHECK(inverse.require(first, solve) > 0);
+  inverse.require(free_nodes, solve);
+  CHECK(inverse.require(free_nodes, solve) == 0);  // nothing new the second time
+  local_node.assign(p.nodes, -1);
+  for (int n = 0; n < p.nodes; ++n)
+    if (p.free_index[n] >= 0) local_node[n] = inverse.local(p.free_index[n]);
+  return inverse;
+}
+
+}  // namespace
+
+TEST_CASE("touched inverse: G equals H^-1 on the touched nodes, symmetric") {
+  std::mt19937 rng(5);
+  const Problem p = random_problem(40, 25, rng);
+  const Eigen::LLT<MatX> llt(p.H);
+  const MatX Hinv = llt.solve(MatX::Identity(p.H.rows(), p.H.cols()));
+  std::vector<int> local_node;
+  const TouchedInverse inverse = touched_inverse(p, llt, local_node);
+  const MatX G = inverse.block();
+  CHECK(G.rows() == 3 * inverse.size());
+  CHECK((G - G.transpose()).norm() == 0.0);
+  double worst = 0;
+  for (int a = 0; a < p.nodes; ++a)
+    for (int b = 0; b < p.nodes; ++b) {
+      if (local_node[a] < 0 || local_node[b] < 0) continue;
+      const MatX expected = Hinv.block<3, 3>(3 * p.free_index[a], 3 * p.free_index[b]);
+      worst = std::max(worst, (G.block<3, 3>(3 * local_node[a], 3 * local_node[b]) - expected).norm());
+    }
+  CHECK(worst < 1e-12 * Hinv.norm());
+}
+
+TEST_CASE("Delassus: factored, dense and direct forms all equal J H^-1 J^T") {
+  std::mt19937 rng(9);
+  // Many rows on few nodes (factored form) and few rows on many nodes (dense form).
+  for (const auto& [nodes, m] : {std::pair{8, 60}, std::pair{40, 12}}) {
+    CAPTURE(nodes);
+    const Problem p = random_problem(nodes, m, rng);
+    const Eigen::LLT<MatX> llt(p.H);
+    const MatX J = jacobian(p);
+    const MatX expected = J * llt.solve(J.transpose());
+    std::vector<int> local_node;
+    const TouchedInverse inverse = touched_inverse(p, llt, local_node);
+    Delassus W;
+    W.build(p.rows, local_node, inverse);
+    CHECK(W.dense() == (m <= 3 * inverse.size()));
+    CHECK((W.matrix() - expected).norm() < 1e-12 * expected.norm());
+    for (int i = 0; i < m; ++i) CHECK(W.diagonal(i) == doctest::Approx(expected(i, i)).epsilon(1e-12));
+
+    // w = W lambda + c, then kept up to date through changed().
+    std::normal_distribution<double> normal;
+    VecX lambda(m), c(m);
+    for (int i = 0; i < m; ++i) lambda[i] = normal(rng), c[i] = normal(rng);
+    W.start(lambda, c);
+    lambda[3] += 0.7;
+    W.changed(3, 0.7);
+    const VecX w = expected * lambda + c;
+    for (int i = 0; i < m; ++i) CHECK(W.w(i) == doctest::Approx(w[i]).epsilon(1e-10));
+
+    Delassus direct;
+    direct.build_direct(p.rows, p.free_index, llt.solve(J.transpose()));
+    CHECK(direct.dense());
+    CHECK((direct.matrix() - expected).norm() < 1e-12 * expected.norm());
+    for (int i = 0; i < m; ++i) CHECK(direct.diagonal(i) == doctest::Approx(expected(i, i)).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("PGS through the factored Delassus operator matches PGS on the dense matrix") {
+  std::mt19937 rng(2);
+  Problem p = random_problem(6, 50, rng);  // 50 rows on 15 DOFs: redundant, W singular
+  const Eigen::LLT<MatX> llt(p.H);
+  std::vector<int> local_node;
+  const TouchedInverse inverse = touched_inverse(p, llt, local_node);
+  Delassus W;
+  W.build(p.rows, local_node, inverse);
+  REQUIRE_FALSE(W.dense());
+  std::normal_distribution<double> normal;
+  VecX c(p.rows.size());
+  for (int i = 0; i < c.size(); ++i) c[i] = normal(rng);
+  RowTable dense_rows = p.rows;
+  const MatX Wd = W.matrix();
+  const PgsResult a = solve_pgs(W, c, VecX::Ones(c.size()), p.rows, 40, 0);
+  const PgsResult b = solve_pgs(Wd, c, dense_rows, 40, 0);
+  CHECK(a.iterations == b.iterations);
+  for (int i = 0; i < c.size(); ++i) CHECK(p.rows.lambda[i] == doctest::Approx(dense_rows.lambda[i]).epsilon(1e-8));
+}
+
+// Redundant rows (each row three times): the multipliers are not unique, and PGS's stop on
+// the natural residual (the constraints) must still be reached and mean what it says.
+TEST_CASE("PGS on redundant rows stops on the residual and meets it") {
+  std::mt19937 rng(4);
+  std::normal_distribution<double> normal;
+  const int base = 8;
+  MatX B(base, base);
+  for (int i = 0; i < base; ++i)
+    for (int j = 0; j < base; ++j) B(i, j) = normal(rng);
+  const MatX W0 = B * B.transpose() + base * MatX::Identity(base, base);
+  MatX J = MatX::Zero(3 * base, base);
+  for (int i = 0; i < base; ++i)
+    for (int copy = 0; copy < 3; ++copy) J(3 * i + copy, i) = 1.0 + 0.1 * copy;
+  const MatX W = J * W0 * J.transpose();  // rank base, size 3 base
+  VecX c(3 * base);
+  for (int i = 0; i < base; ++i)
+    for (int copy = 0; copy < 3; ++copy) c[3 * i + copy] = (1.0 + 0.1 * copy) * (i % 2 ? 1.0 : -1.0);
+  RowTable rows;
+  for (int i = 0; i < 3 * base; ++i) rows.add_row(RowKind::Contact, 0, 0, 1e300, i);
+  const double tolerance = 1e-9;
+  const PgsResult result = solve_pgs(W, c, rows, 100000, tolerance);
+  MESSAGE("redundant rows: " << result.iterations << " sweeps to a residual of " << result.residual);
+  CHECK(result.iterations < 100000);
+  CHECK(result.residual <= tolerance);
+  CHECK(lcp_residual(W, c, rows) <= tolerance);
+}

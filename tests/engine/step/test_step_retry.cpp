@@ -1,0 +1,72 @@
+// World::step's recovery: a step that meets a NaN/Inf is rolled back and retried afresh,
+// then in sub-steps; when every retry fails, the state is exactly the one before the step.
+#include <doctest/doctest.h>
+
+#include <limits>
+
+#include "tests/engine/step/contact_scenes.hpp"
+
+using namespace sinew;
+using namespace sinew::test;
+
+namespace {
+
+SceneDesc cube_scene() { return box_scene(0.5, Vec3(0, -kGravity, 0), 1e-3, "", 1e6, R"({"sleep_steps": 0})"); }
+
+// 30 steps of the cube settling on the ground: contact rows carry multipliers into the next step.
+void settle(World& w) {
+  for (int i = 0; i < 30; ++i) REQUIRE(w.step());
+  REQUIRE_FALSE(w.state().warm_start.empty());
+}
+
+}  // namespace
+
+TEST_CASE("step retry: NaN multipliers inherited from the last step are dropped by the afresh retry") {
+  World spoiled = make_world(cube_scene());
+  World fresh = make_world(cube_scene());
+  settle(spoiled);
+  settle(fresh);
+  REQUIRE(spoiled.state_hash() == fresh.state_hash());
+  for (auto& [key, lambda] : spoiled.mutable_state().warm_start) lambda = std::numeric_limits<double>::quiet_NaN();
+  // What the afresh retry does, done by hand: no warm start, no curvature, a new factorisation.
+  State& f = fresh.mutable_state();
+  f.warm_start.clear();
+  f.curvature.clear();
+  f.curvature_blocks.clear();
+  f.factor_age = fresh.model().solver.refactor_interval;
+
+  const double t0 = spoiled.state().t;
+  REQUIRE(spoiled.step());
+  CHECK(spoiled.profile().finite);
+  CHECK(spoiled.profile().iterations.at("step_retries") == 1);
+  CHECK(spoiled.state().t == t0 + spoiled.model().h);
+  CHECK(spoiled.state().step_count == 31);
+  CHECK(spoiled.model().h == doctest::Approx(1.0 / 60).epsilon(1e-15));  // h restored
+
+  REQUIRE(fresh.step());
+  CHECK(fresh.profile().iterations.count("step_retries") == 0);
+  CHECK(spoiled.state_hash() == fresh.state_hash());  // the retry is exactly a fresh step
+}
+
+TEST_CASE("step retry: when every retry fails the step is rolled back exactly and reported") {
+  World w = make_world(cube_scene());
+  settle(w);
+  const VecX x0 = w.state().x, v0 = w.state().v;
+  const double t0 = w.state().t;
+  const long steps0 = w.state().step_count;
+  w.mutable_state().external_force[3] = std::numeric_limits<double>::infinity();
+  CHECK_FALSE(w.step());
+  CHECK_FALSE(w.profile().finite);
+  // The first attempt, afresh, 2 and 4 sub-steps.
+  CHECK(w.profile().iterations.at("step_retries") == 4);
+  CHECK(w.state().x == x0);
+  CHECK(w.state().v == v0);
+  CHECK(w.state().t == t0);
+  CHECK(w.state().step_count == steps0);
+  CHECK(w.model().h == doctest::Approx(1.0 / 60).epsilon(1e-15));
+
+  // The caller can fix the cause and go on from the rolled-back state.
+  w.mutable_state().external_force[3] = 0;
+  CHECK(w.step());
+  CHECK(w.state().x.allFinite());
+}
