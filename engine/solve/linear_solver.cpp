@@ -1,9 +1,24 @@
 #include "engine/solve/linear_solver.hpp"
 
+#include <tbb/parallel_for.h>
+
+#include <stdexcept>
+
 namespace sinew {
 
+LinearSolver::SolveWorkspace::SolveWorkspace() { cholmod_start(&common); }
+
+LinearSolver::SolveWorkspace::~SolveWorkspace() {
+  cholmod_free_dense(&x, &common);
+  cholmod_free_dense(&y, &common);
+  cholmod_free_dense(&e, &common);
+  cholmod_finish(&common);
+}
+
 LinearSolver::LinearSolver(const SolverDesc& desc)
-    : m_use_cholmod(desc.linear != "pcg"), m_desc(desc) {
+    : m_use_cholmod(desc.linear != "pcg"),
+      m_desc(desc),
+      m_workspaces(std::make_unique<tbb::enumerable_thread_specific<SolveWorkspace>>()) {
   m_pcg.setTolerance(desc.pcg_tolerance);
   m_pcg.setMaxIterations(desc.pcg_max_iterations);
 }
@@ -43,7 +58,36 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
 void LinearSolver::solve_many(const MatX& B, MatX& X) {
   if (m_use_cholmod) {
     m_solves += B.cols();
-    X = m_cholmod.solve(B);
+    X.resize(B.rows(), B.cols());
+    cholmod_factor* L = m_cholmod.factor();
+    const int n = static_cast<int>(B.rows());
+    // Solves columns [first, first + width) with the calling thread's workspace.
+    const auto solve_columns = [&](int first, int width) {
+      SolveWorkspace& ws = m_workspaces->local();
+      cholmod_dense b{};  // a view of B's columns: cholmod_solve2 only reads it
+      b.nrow = b.d = n;
+      b.ncol = width;
+      b.nzmax = static_cast<size_t>(n) * width;
+      b.x = const_cast<double*>(B.data() + static_cast<size_t>(first) * n);
+      b.xtype = CHOLMOD_REAL;
+      b.dtype = CHOLMOD_DOUBLE;
+      if (!cholmod_solve2(CHOLMOD_A, L, &b, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
+        throw std::runtime_error("CHOLMOD solve failed (out of memory)");
+      X.middleCols(first, width) = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, width);
+    };
+    if (B.cols() == 0) return;
+    // A supernodal solve calls BLAS, and Debian's serial OpenBLAS is not safe to call from
+    // two threads at once (wrong results, measured): one call with every column, which
+    // BLAS-3 handles best anyway. A simplicial solve calls no BLAS: blocks in parallel.
+    if (L->is_super) {
+      solve_columns(0, static_cast<int>(B.cols()));
+      return;
+    }
+    const int blocks = static_cast<int>((B.cols() + kSolveBlock - 1) / kSolveBlock);
+    tbb::parallel_for(0, blocks, [&](int block) {
+      const int first = block * kSolveBlock;
+      solve_columns(first, std::min<int>(kSolveBlock, static_cast<int>(B.cols()) - first));
+    });
     return;
   }
   X.resize(B.rows(), B.cols());

@@ -6,6 +6,8 @@
 #include <Eigen/IterativeLinearSolvers>
 #include <memory>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/core/types.hpp"
 #include "engine/scene/scene.hpp"
@@ -21,8 +23,12 @@ class LinearSolver {
   bool factorize(const SparseMatrix& A);
   // Solves A x = b. PCG starts from the x passed in. Returns iterations (1 for CHOLMOD).
   int solve(const VecX& b, VecX& x);
-  // Solves A X = B column by column (CHOLMOD: one call with all columns).
+  // Solves A X = B column by column. CHOLMOD, simplicial factor: blocks of kSolveBlock
+  // columns solved in parallel, each with its thread's workspace, each block as wide
+  // whatever the thread count (X is bit-identical for any number of threads); supernodal
+  // factor: one call (BLAS-3) on the calling thread.
   void solve_many(const MatX& B, MatX& X);
+  static constexpr int kSolveBlock = 16;
   void reset_pattern() { m_analyzed = false; }
   bool uses_cholmod() const { return m_use_cholmod; }
   double last_residual() const { return m_last_residual; }
@@ -36,7 +42,21 @@ class LinearSolver {
   double m_last_residual = 0;
   long m_factorizations = 0, m_solves = 0;
   SolverDesc m_desc;
-  Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> m_cholmod;
+  // Eigen's wrapper, with the factor exposed for solves from several threads at once.
+  struct Cholmod : Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> {
+    cholmod_factor* factor() { return m_cholmodFactor; }
+  };
+  // A thread's CHOLMOD workspace (its own cholmod_common and solve buffers, reused).
+  struct SolveWorkspace {
+    SolveWorkspace();
+    ~SolveWorkspace();
+    SolveWorkspace(const SolveWorkspace&) = delete;
+    SolveWorkspace& operator=(const SolveWorkspace&) = delete;
+    cholmod_common common;
+    cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
+  };
+  Cholmod m_cholmod;
+  std::unique_ptr<tbb::enumerable_thread_specific<SolveWorkspace>> m_workspaces;
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper,
                            Eigen::DiagonalPreconditioner<double>>
       m_pcg;
