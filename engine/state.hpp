@@ -8,6 +8,7 @@
 #include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/row_table.hpp"
 #include "engine/constraints/delassus.hpp"
+#include "engine/constraints/row_column_cache.hpp"
 #include "engine/constraints/touched_inverse.hpp"
 #include "engine/core/types.hpp"
 #include "engine/profile.hpp"
@@ -31,7 +32,9 @@ struct State {
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
   Delassus delassus;                 // W = J H^-1 J^T of the current SQP iteration (constraints)
   std::vector<int> touched_scratch, local_node;  // scratch of the constraint solve
-  MatX constraint_scratch;           // J^T when W is formed from one solve per row (constraints)
+  RowColumnCache row_columns;        // H^-1 J_i^T per row, per factorisation, when W is formed
+                                     // from one solve per row (constraints)
+  std::vector<const double*> row_column_scratch;
   SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
   std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from
                                      // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T

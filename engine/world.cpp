@@ -44,6 +44,7 @@ void World::apply_sleeping_set() {
   s.v_free = VecX::Zero(3 * model.num_free);
   s.factor_age = m_model.solver.refactor_interval;  // no reuse of a factorisation of the old pattern
   s.touched_inverse.reset(model.num_free);
+  s.row_columns.reset();
   m_solver.reset_pattern();
 }
 

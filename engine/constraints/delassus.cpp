@@ -1,7 +1,5 @@
 #include "engine/constraints/delassus.hpp"
 
-#include <Eigen/SparseCore>
-
 namespace sinew {
 
 void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, const TouchedInverse& inverse) {
@@ -42,18 +40,29 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
 }
 
 void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_index, const MatX& Y) {
+  std::vector<const double*> columns(rows.size());
+  for (int i = 0; i < rows.size(); ++i) columns[i] = Y.col(i).data();
+  build_direct(rows, free_index, columns);
+}
+
+void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_index,
+                            const std::vector<const double*>& columns) {
   const int m = rows.size();
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int i = 0; i < m; ++i)
-    for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
-      if (const int f = free_index[rows.nodes[e]]; f >= 0)
-        for (int d = 0; d < 3; ++d) entries.emplace_back(i, 3 * f + d, rows.jac[e][d]);
-  Eigen::SparseMatrix<double, Eigen::RowMajor> J(m, Y.rows());
-  J.setFromTriplets(entries.begin(), entries.end());
-  m_W.noalias() = J * Y;
+  m_W.resize(m, m);
+  for (int j = 0; j < m; ++j) {
+    const double* y = columns[j];
+    for (int i = 0; i < m; ++i) {
+      double s = 0;
+      for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
+        if (const int f = free_index[rows.nodes[e]]; f >= 0)
+          s += rows.jac[e][0] * y[3 * f] + rows.jac[e][1] * y[3 * f + 1] + rows.jac[e][2] * y[3 * f + 2];
+      m_W(i, j) = s;
+    }
+  }
   m_W = 0.5 * (m_W + m_W.transpose()).eval();
   m_diagonal.resize(m);
   for (int i = 0; i < m; ++i) m_diagonal[i] = m_W(i, i);
+  m_T.resize(0, 0);
   m_dense = true;
 }
 

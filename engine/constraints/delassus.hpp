@@ -26,6 +26,8 @@ class Delassus {
   // W = J Y (dense form); `free_index[n]` is the free index of global node n or -1, Y is
   // 3 free x m.
   void build_direct(const RowTable& rows, const std::vector<int>& free_index, const MatX& Y);
+  // The same with column i of Y at columns[i] (3 free values; row_column_cache.hpp).
+  void build_direct(const RowTable& rows, const std::vector<int>& free_index, const std::vector<const double*>& columns);
 
   int size() const { return static_cast<int>(m_diagonal.size()); }
   bool dense() const { return m_dense; }

@@ -99,7 +99,8 @@ VecX apply_jacobian_transpose(const Model& model, const RowTable& rows) {
 // W = J H^-1 J^T for this iteration's rows into s.delassus. From H^-1 on the touched
 // nodes (touched_inverse.hpp) when the nodes no earlier row of this factorisation touched
 // cost at most one solve per row (3 per node); otherwise from one solve per row,
-// Y = H^-1 J^T. Returns the columns solved.
+// Y = H^-1 J^T, whose columns are kept for the rows whose Jacobian does not change
+// (row_column_cache.hpp). Returns the columns solved.
 int factor_delassus(const Model& model, LinearSolver& solver, State& s) {
   const int m = s.rows.size();
   std::vector<int>& touched = s.touched_scratch;
@@ -110,15 +111,10 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s) {
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   const auto solve_many = [&](const MatX& B, MatX& X) { solver.solve_many(B, X); };
   if (3 * static_cast<int>(touched.size()) > m) {
-    MatX& Jt = s.constraint_scratch;
-    Jt.setZero(3 * model.num_free, m);
-    for (int i = 0; i < m; ++i)
-      for (int e = s.rows.begin[i]; e < s.rows.begin[i + 1]; ++e)
-        if (const int f = model.free_index[s.rows.nodes[e]]; f >= 0) Jt.block<3, 1>(3 * f, i) += s.rows.jac[e];
-    MatX Y;
-    solve_many(Jt, Y);
-    s.delassus.build_direct(s.rows, model.free_index, Y);
-    return m;
+    const int solved = s.row_columns.columns(s.rows, model.free_index, 3 * model.num_free, solve_many,
+                                             s.row_column_scratch);
+    s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch);
+    return solved;
   }
   const int solved = s.touched_inverse.require(touched, solve_many);
   s.local_node.resize(model.num_nodes);

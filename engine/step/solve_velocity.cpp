@@ -13,6 +13,7 @@ namespace sinew {
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state) {
   state.factor_age = 0;
   state.touched_inverse.reset(model.num_free);
+  state.row_columns.reset();
   state.factor_curved = !state.curvature_blocks.empty() ||
                         std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
   if (state.factor_curved) {

@@ -1,0 +1,83 @@
+#pragma once
+// Columns y_i = H^-1 J_i^T of constraint rows, kept for the life of one factorisation of the
+// step's system matrix H: a row whose stencil (nodes and Jacobian, bit for bit) is the one
+// its column was solved for is not solved again. For the Delassus matrix formed from one
+// solve per row (delassus.hpp, build_direct): contacts on a plane or a kinematic plate keep
+// their Jacobian across SQP iterations (the embedded weights and the normal do not move),
+// so only the rows that changed, mostly energy limits, cost solves after the first iteration.
+#include <algorithm>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "engine/constraints/row_table.hpp"
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+class RowColumnCache {
+ public:
+  // Forget every column: H was refactorised.
+  void reset() { m_entries.clear(); }
+
+  // Points columns[i] at y_i (3 free-DOF values) for every row of `rows`: kept, or solved by
+  // one call `solve_many(B, X)` (X = H^-1 B) for all the rows without one. `free_index[n]` is
+  // the free index of global node n or -1. The pointers hold until the next call or reset().
+  // Returns the columns solved.
+  template <typename SolveMany>
+  int columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany&& solve_many,
+              std::vector<const double*>& columns);
+
+  int size() const { return static_cast<int>(m_entries.size()); }
+
+ private:
+  struct Entry {
+    std::vector<int> nodes;
+    std::vector<Vec3> jac;
+    VecX y;
+  };
+  bool matches(const Entry& entry, const RowTable& rows, int i) const;
+  void store(const RowTable& rows, int i, const double* y, int free_dofs);
+
+  std::unordered_map<uint64_t, Entry> m_entries;
+  std::vector<int> m_missing;
+  std::vector<uint64_t> m_kept;
+  MatX m_B, m_X;
+};
+
+template <typename SolveMany>
+int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
+                            SolveMany&& solve_many, std::vector<const double*>& columns) {
+  const int m = rows.size();
+  columns.assign(m, nullptr);
+  m_missing.clear();
+  m_kept.clear();
+  for (int i = 0; i < m; ++i) {
+    const auto it = m_entries.find(rows.key[i]);
+    if (it != m_entries.end() && matches(it->second, rows, i)) {
+      columns[i] = it->second.y.data();
+      m_kept.push_back(rows.key[i]);
+    } else {
+      m_missing.push_back(i);
+    }
+  }
+  const int solved = static_cast<int>(m_missing.size());
+  if (solved == 0) return 0;
+  m_B.setZero(free_dofs, solved);
+  for (int k = 0; k < solved; ++k) {
+    const int i = m_missing[k];
+    for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
+      if (const int f = free_index[rows.nodes[e]]; f >= 0) m_B.block<3, 1>(3 * f, k) += rows.jac[e];
+  }
+  solve_many(m_B, m_X);
+  std::sort(m_kept.begin(), m_kept.end());
+  for (int k = 0; k < solved; ++k) {
+    const int i = m_missing[k];
+    columns[i] = m_X.col(k).data();
+    // A key kept for another row of this call keeps its entry: columns[] points into it.
+    if (!std::binary_search(m_kept.begin(), m_kept.end(), rows.key[i])) store(rows, i, columns[i], free_dofs);
+  }
+  return solved;
+}
+
+}  // namespace sinew
