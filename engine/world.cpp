@@ -71,6 +71,7 @@ bool World::step() {
   const VecX x0 = s.x, v0 = s.v;
   int retries = 1;
   bool ok = false;
+  int substeps_used = 1;
   for (const int substeps : {1, 2, 4}) {
     set_step_size(h / substeps);
     ok = true;
@@ -78,7 +79,10 @@ bool World::step() {
       forget_previous_step();
       ok = attempt_step();
     }
-    if (ok) break;
+    if (ok) {
+      substeps_used = substeps;
+      break;
+    }
     ++retries;
     s.x = x0, s.v = v0, s.t = t0, s.step_count = count0;
   }
@@ -86,6 +90,9 @@ bool World::step() {
   if (ok) {
     s.t = t0 + h;
     s.step_count = count0 + 1;
+    // The last factorisation is of the system for h / substeps: the next step must not reuse
+    // it (refactor_interval > 1).
+    if (substeps_used > 1) s.factor_age = m_model.solver.refactor_interval;
   } else {
     forget_previous_step();
   }

@@ -35,11 +35,16 @@ class RowColumnCache {
     std::vector<int> nodes;
     std::vector<Vec3> jac;
     VecX y;
+    long last_call = 0;  // the call that last used or solved it
   };
-  bool matches(const Entry& entry, const RowTable& rows, int i) const;
+  bool matches(const Entry& entry, const RowTable& rows, int i, int free_dofs) const;
+  // Drops the entries the last call did not use, once they outnumber the rows: a
+  // factorisation kept for several steps would otherwise keep every row it ever saw.
+  void evict(int rows);
   void store(const RowTable& rows, int i, const double* y, int free_dofs);
 
   std::unordered_map<uint64_t, Entry> m_entries;
+  long m_call = 0;
   std::vector<int> m_missing;
   std::vector<uint64_t> m_kept;
   MatX m_B, m_X;
@@ -49,12 +54,14 @@ template <typename SolveMany>
 int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
                             SolveMany&& solve_many, std::vector<const double*>& columns) {
   const int m = rows.size();
+  ++m_call;
   columns.assign(m, nullptr);
   m_missing.clear();
   m_kept.clear();
   for (int i = 0; i < m; ++i) {
     const auto it = m_entries.find(rows.key[i]);
-    if (it != m_entries.end() && matches(it->second, rows, i)) {
+    if (it != m_entries.end() && matches(it->second, rows, i, free_dofs)) {
+      it->second.last_call = m_call;
       columns[i] = it->second.y.data();
       m_kept.push_back(rows.key[i]);
     } else {
@@ -62,7 +69,10 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
     }
   }
   const int solved = static_cast<int>(m_missing.size());
-  if (solved == 0) return 0;
+  if (solved == 0) {
+    evict(m);
+    return 0;
+  }
   m_B.setZero(free_dofs, solved);
   for (int k = 0; k < solved; ++k) {
     const int i = m_missing[k];
@@ -77,6 +87,7 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
     // A key kept for another row of this call keeps its entry: columns[] points into it.
     if (!std::binary_search(m_kept.begin(), m_kept.end(), rows.key[i])) store(rows, i, columns[i], free_dofs);
   }
+  evict(m);
   return solved;
 }
 

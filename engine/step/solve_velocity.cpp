@@ -43,6 +43,12 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     const bool reuse = state.step_count > 0 && ++state.factor_age < model.solver.refactor_interval;
     if (reuse) {
       state.factor_exact = false;
+      // PCG keeps no factor: its solves use this step's matrix, so columns of H^-1 solved
+      // in an earlier step are stale.
+      if (!solver.uses_cholmod()) {
+        state.touched_inverse.reset(model.num_free);
+        state.row_columns.reset();
+      }
       state.profile.skipped[static_cast<int>(Stage::Factorize)] = "reusing the factorisation of an earlier step";
     } else {
       if (!factorize_step_system(model, solver, state)) return false;

@@ -8,6 +8,8 @@
 
 #include "engine/constraints/delassus.hpp"
 #include "engine/constraints/row_column_cache.hpp"
+#include "engine/step/stages.hpp"
+#include "tests/engine/step/contact_scenes.hpp"
 
 using namespace sinew;
 
@@ -81,7 +83,7 @@ TEST_CASE("row_column_cache: columns are H^-1 J^T, solved once while the stencil
   p.rows.jac[p.rows.begin[7]][1] += 1e-9;
   CHECK(p.fill(cache, columns) == 1);
   CHECK(p.column_error(columns) < 1e-12);
-  // A row whose stencil gains a node: solved again too.
+  // A row whose stencil has another node: solved again too.
   p.rows.nodes[p.rows.begin[4]] = (p.rows.nodes[p.rows.begin[4]] + 6) % kNodes;
   CHECK(p.fill(cache, columns) == 1);
   CHECK(p.column_error(columns) < 1e-12);
@@ -114,4 +116,37 @@ TEST_CASE("row_column_cache: two rows with one key never share a column") {
   CHECK(p.column_error(columns) < 1e-12);
   CHECK(p.fill(cache, columns) >= 1);  // one of the two is not in the cache, and is solved again
   CHECK(p.column_error(columns) < 1e-12);
+}
+
+TEST_CASE("row_column_cache: columns of rows no longer seen are dropped once they outnumber the rows") {
+  Fixture p;
+  RowColumnCache cache;
+  std::vector<const double*> columns;
+  p.fill(cache, columns);
+  CHECK(cache.size() == 20);
+  // The same stencils under new keys (as when contacts move to other vertices): 20 solved,
+  // and the 20 old entries, unused by this call, are dropped.
+  for (auto& key : p.rows.key) key += 1000;
+  CHECK(p.fill(cache, columns) == 20);
+  CHECK(cache.size() == 20);
+  CHECK(p.column_error(columns) < 1e-12);
+}
+
+TEST_CASE("row_column_cache: a new factorisation of the step system empties the cache") {
+  using namespace sinew::test;
+  World world = make_world(box_scene(0.5, Vec3(0, -kGravity, 0), 1e-3));
+  REQUIRE(world.step());
+  State& state = world.mutable_state();
+  RowTable rows;
+  rows.add_row(RowKind::Contact, 0, 0, 1e300, 1);
+  rows.add_entry(world.model().num_nodes - 1, Vec3(0, 1, 0));
+  LinearSolver solver(world.model().solver);
+  REQUIRE(factorize_step_system(world.model(), solver, state));
+  std::vector<const double*> columns;
+  const int dofs = 3 * world.model().num_free;
+  state.row_columns.columns(rows, world.model().free_index, dofs, [&](const MatX& B, MatX& X) { solver.solve_many(B, X); },
+                            columns);
+  REQUIRE(state.row_columns.size() == 1);
+  REQUIRE(factorize_step_system(world.model(), solver, state));
+  CHECK(state.row_columns.size() == 0);
 }

@@ -1,8 +1,8 @@
 // LinearSolver's multi-column CHOLMOD solve (simplicial: blocks of columns on several
 // threads; supernodal: one call): the same solution as one column at a time, to round-off,
-// and bit-identical for any thread count. Run with 2 threads or more, the supernodal case
-// also checks that no BLAS call is made from two threads at once (Debian's serial
-// OpenBLAS then returns wrong solutions).
+// and the same bits on 1 and 2 threads. The supernodal case is what caught Debian's serial
+// OpenBLAS returning wrong solutions when two threads called it at once (it fails, not
+// always, if the supernodal path is made parallel).
 #include <doctest/doctest.h>
 
 #include <tbb/global_control.h>
