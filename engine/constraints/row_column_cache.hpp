@@ -42,6 +42,10 @@ class RowColumnCache {
   // factorisation kept for several steps would otherwise keep every row it ever saw.
   void evict(int rows);
   void store(const RowTable& rows, int i, const double* y, int free_dofs);
+  // Solves the rows of m_missing in one call and stores their columns.
+  template <typename SolveMany>
+  void solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany& solve_many,
+                     std::vector<const double*>& columns);
 
   std::unordered_map<uint64_t, Entry> m_entries;
   long m_call = 0;
@@ -69,10 +73,15 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
     }
   }
   const int solved = static_cast<int>(m_missing.size());
-  if (solved == 0) {
-    evict(m);
-    return 0;
-  }
+  if (solved > 0) solve_missing(rows, free_index, free_dofs, solve_many, columns);
+  evict(m);
+  return solved;
+}
+
+template <typename SolveMany>
+void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
+                                   SolveMany& solve_many, std::vector<const double*>& columns) {
+  const int solved = static_cast<int>(m_missing.size());
   m_B.setZero(free_dofs, solved);
   for (int k = 0; k < solved; ++k) {
     const int i = m_missing[k];
@@ -87,8 +96,6 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
     // A key kept for another row of this call keeps its entry: columns[] points into it.
     if (!std::binary_search(m_kept.begin(), m_kept.end(), rows.key[i])) store(rows, i, columns[i], free_dofs);
   }
-  evict(m);
-  return solved;
 }
 
 }  // namespace sinew
