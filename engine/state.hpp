@@ -27,6 +27,7 @@ struct State {
   SparseMatrix system;               // free-DOF system matrix A of eq. 19 (assemble)
   VecX rhs;                          // 3 * free: b of eq. 19 (assemble)
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
+  VecX v_start;                      // 3 * free: velocities at the start of the step (solve, Newton)
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)

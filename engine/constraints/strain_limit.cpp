@@ -16,20 +16,68 @@ bool has_min(double smin) { return std::isfinite(smin) && smin > 0; }
 bool has_max(double smax) { return std::isfinite(smax); }
 double sign_of(double c) { return c > 0 ? 1.0 : (c < 0 ? -1.0 : 0.0); }
 
-// One constraint C(s_i, c_i.) with dC = p ds_i + sum_j q_j dc_ij (header: the table per mode).
+// One constraint C(s, c) with dC = sum_l P_l ds_l + sum_lj Q_lj dc_lj (header: the table per
+// mode). p: the slope dC/ds_i at fixed cosines, which bounds s_i (compute_projected_strain_limits).
 struct Term {
   int k;
   int i;
   double C;
   double p;
-  Vec3 q;
+  Vec3 P;
+  Mat3 Q;
 };
 
 struct Terms {
   int count = 0;
   std::array<Term, kStrainLimitCount> term;
-  void add(int k, int i, double C, double p, const Vec3& q) { term[count++] = {k, i, C, p, q}; }
+  // A constraint of s_i and row i of c only: P = p e_i, Q row i = q.
+  void add(int k, int i, double C, double p, const Vec3& q) {
+    Mat3 Q = Mat3::Zero();
+    Q.row(i) = q.transpose();
+    term[count++] = {k, i, C, p, p * Vec3::Unit(i), Q};
+  }
+  void add(int k, int i, double C, double p, const Vec3& P, const Mat3& Q) { term[count++] = {k, i, C, p, P, Q}; }
 };
+
+// Weight of principal axis l in axis i's cosine when s_i and s_l are t * kStrainLimitBlendGap
+// apart: 1 at t = 0, 0 from t = 1 on, C1 (smoothstep); and dw/dt.
+double blend_weight(double t) { return t >= 1 ? 0.0 : 1 - t * t * (3 - 2 * t); }
+double blend_weight_slope(double t) { return t >= 1 ? 0.0 : -6 * t * (1 - t); }
+
+// Hyperbolic constraints with the blended cosine (header): a_ij^2 = c_ij^2 + sum_l w_il c_lj^2.
+void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat3& c, Terms& out) {
+  const Vec3& s = svd.S;
+  for (int i = 0; i < 3; ++i) {
+    Vec3 w = Vec3::Zero(), dw_ds = Vec3::Zero();  // dw_il / ds_i (= -dw_il / ds_l)
+    for (int l = 0; l < 3; ++l) {
+      if (l == i) continue;
+      const double t = std::abs(s(i) - s(l)) / kStrainLimitBlendGap;
+      w(l) = blend_weight(t);
+      dw_ds(l) = blend_weight_slope(t) * sign_of(s(i) - s(l)) / kStrainLimitBlendGap;
+    }
+    for (int j = 0; j < 3; ++j) {
+      double a2 = c(i, j) * c(i, j);
+      for (int l = 0; l < 3; ++l) a2 += w(l) * c(l, j) * c(l, j);
+      const double a = std::sqrt(a2);
+      if (a <= kTiny) continue;
+      // dC_min = a ds_i + (s_i - 1) da, da = (c_ij dc_ij + sum_l (w_il c_lj dc_lj
+      //          + c_lj^2 / 2 dw_il)) / a;  C_max = const - (the same): every term negated.
+      const double g = (s(i) - 1) / a;
+      Vec3 P = a * Vec3::Unit(i);
+      Mat3 Q = Mat3::Zero();
+      Q(i, j) = g * c(i, j);
+      for (int l = 0; l < 3; ++l) {
+        if (l == i) continue;
+        Q(l, j) = g * w(l) * c(l, j);
+        const double dP = 0.5 * g * c(l, j) * c(l, j) * dw_ds(l);
+        P(i) += dP;
+        P(l) -= dP;
+      }
+      if (has_min(spec.smin(j))) out.add(strain_limit_index(i, j, 0), i, a * (s(i) - 1) - (spec.smin(j) - 1), a, P, Q);
+      if (has_max(spec.smax(j))) out.add(strain_limit_index(i, j, 1), i, (spec.smax(j) - 1) - a * (s(i) - 1), -a, -P, -Q);
+    }
+  }
+}
 
 // Every constraint the tet has, with its value and derivative coefficients, in index order.
 void collect_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, Terms& out) {
@@ -41,16 +89,7 @@ void collect_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, T
   switch (spec.mode) {
     case StrainLimitMode::Hyperbolic:
       // C_min = a (s_i - 1) - (smin_j - 1), C_max = (smax_j - 1) - a (s_i - 1)  (eqs. 11-12)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          const double a = std::abs(c(i, j));
-          if (a <= kTiny) continue;
-          const Vec3 q = sign_of(c(i, j)) * (s(i) - 1) * Vec3::Unit(j);
-          if (has_min(lo(j)))
-            out.add(strain_limit_index(i, j, 0), i, a * (s(i) - 1) - (lo(j) - 1), a, q);
-          if (has_max(hi(j)))
-            out.add(strain_limit_index(i, j, 1), i, (hi(j) - 1) - a * (s(i) - 1), -a, -q);
-        }
+      add_hyperbolic_terms(spec, svd, c, out);
       break;
     case StrainLimitMode::Orthogonal:
       // C_min = (s_i - 1) - a (smin_j - 1), C_max = a (smax_j - 1) - (s_i - 1)  (eqs. 19-20)
@@ -163,16 +202,18 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat
   for (int t = 0; t < terms.count; ++t) {
     const Term& term = terms.term[t];
     if (!(term.C < margin || (keep >> term.k & 1u))) continue;
-    const int i = term.i;
-    const Vec3 w = spec.frame * term.q;
-    // dC/dF = p u_i v_i^T + (dV e_i) . w, entry by entry
-    Mat3 G = term.p * svd.U.col(i) * svd.V.col(i).transpose();
-    if (term.q.squaredNorm() > 0)
+    // dC/dF = sum_l P_l u_l v_l^T + sum_l (dV e_l) . (M Q^T e_l), entry by entry
+    // (dc_lj = (dV e_l) . m_j).
+    Mat3 G = svd.U * term.P.asDiagonal() * svd.V.transpose();
+    if (term.Q.squaredNorm() > 0) {
+      const Mat3 W = spec.frame * term.Q.transpose();
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) G(r, c) += d.dV[r][c].col(i).dot(w);
+        for (int c = 0; c < 3; ++c) G(r, c) += d.dV[r][c].cwiseProduct(W).sum();
+    }
     StrainLimitRow& row = out.row[out.count++];
     row.index = term.k;
     row.value = term.C;
+    row.dF = G;
     for (int a = 0; a < 4; ++a) row.jac.segment<3>(3 * a) = G * dN_dX.row(a).transpose();
   }
 }

@@ -23,6 +23,19 @@
 //       C_max_ji = (smax_j - 1) - a_ij (s_i - 1)
 //     i.e. the strain of s_i projected onto m_j against that axis' strain limit. 18 per tet.
 //     No constraint where a_ij <= 1e-12 (the projected limit is infinite).
+//     Beyond the paper, near repeated singular values: the paper's a_ij = |c_ij| depends on
+//     which principal axes the SVD picks in a plane of (nearly) equal stretches, where any
+//     pair is as good: at s_i = s_l = 1.027 with m_j in their plane, |c_ij| may be anything
+//     in [0, 1], so C_max_ji jumps between -0.007 and +0.02 under a perturbation of F as
+//     small as one likes; SQP then never settles (the fingers of fig. 3 did not reach the
+//     1e-3 tolerance in a third of their frames) and finds states where a 2 % limit holds
+//     a 2.7 % fibre stretch. Here
+//       a_ij^2 = c_ij^2 + sum_{l != i} w(|s_i - s_l| / kStrainLimitBlendGap) c_lj^2,
+//     w(t) = 1 - 3 t^2 + 2 t^3 for t < 1, 0 after (C1): the paper's |c_ij| once the
+//     stretches are 2 % apart; at equal stretches, the length of m_j's projection onto
+//     their plane, the same for every choice of axes in it (then a_ij (s_i - 1) is the
+//     fibre strain along m_j to first order, as the paper intends). a_ij >= |c_ij|: the
+//     blend only tightens, it never hides a violation the paper's form would show.
 //   Orthogonal (eqs. 19-20): smin_ji = 1 + (smin_j - 1) a_ij, and so on:
 //       C_min_ji = (s_i - 1) - a_ij (smin_j - 1)
 //       C_max_ji = a_ij (smax_j - 1) - (s_i - 1)
@@ -50,6 +63,8 @@
 //   (engine/math/svd_derivative.hpp; eqs. 14-16), and per mode
 //     Hyperbolic  min: p = a_ij, q_j = sign(c_ij) (s_i - 1)     (eq. 17)
 //                 max: p = -a_ij, q_j = -sign(c_ij) (s_i - 1)   (eq. 18)
+//                 where the blend is on (above), C also depends on s_l and c_lj (l != i):
+//                 strain_limit.cpp, add_hyperbolic_terms, differentiates a_ij exactly.
 //     Orthogonal  min: p = 1, q_j = -sign(c_ij) (smin_j - 1)
 //                 max: p = -1, q_j = sign(c_ij) (smax_j - 1)
 //     Linear      min: p = 1, q_j = -smin_j^2 c_ij / L_i(smin)
@@ -85,6 +100,7 @@ constexpr int kStrainLimitCount = 18;
 constexpr int strain_limit_index(int i, int j, int side) { return 6 * i + 2 * j + side; }
 
 constexpr double kStrainLimitGapTolerance = 1e-3;
+constexpr double kStrainLimitBlendGap = 0.02;
 
 using Vec12 = Eigen::Matrix<double, 12, 1>;
 using Mat43 = Eigen::Matrix<double, 4, 3>;
@@ -110,6 +126,7 @@ ProjectedStrainLimits compute_projected_strain_limits(const StrainLimitSpec& spe
 struct StrainLimitRow {
   int index = 0;     // k, see strain_limit_index
   double value = 0;  // C_k
+  Mat3 dF;           // dC_k/dF
   Vec12 jac;         // dC_k/dx over the 4 nodes (node-major)
 };
 

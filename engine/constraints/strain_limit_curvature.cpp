@@ -1,5 +1,6 @@
 #include "engine/constraints/strain_limit_curvature.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
@@ -9,16 +10,25 @@ namespace {
 // Floors |d| at kCurvatureGap keeping its sign (0 counts as positive).
 double floored(double d) { return d < 0 ? std::min(d, -kCurvatureGap) : std::max(d, kCurvatureGap); }
 
+// x-space: dvec(F)/dx = B with B(r + 3c, 3a + r) = dN_a,c.
+Eigen::Matrix<double, 9, 12> vec_F_by_x(const Mat43& dN_dX) {
+  Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
+  for (int a = 0; a < 4; ++a)
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) B(r + 3 * c, 3 * a + r) = dN_dX(a, c);
+  return B;
+}
+
 }  // namespace
 
-Mat12 compute_strain_limit_curvature(const RotationVariantSvd& svd, int i, bool stretch, double p,
-                                     const Mat43& dN_dX) {
+Mat12 compute_isotropic_strain_limit_curvature(const RotationVariantSvd& svd, int i, bool stretch,
+                                               const Mat43& dN_dX) {
   const double sign = stretch ? 1.0 : -1.0;
-  Eigen::Matrix<double, 9, 9> H = Eigen::Matrix<double, 9, 9>::Zero();
+  Mat9 H = Mat9::Zero();
   for (int j = 0; j < 3; ++j) {
     if (j == i) continue;
-    const double twist = sign * p / floored(svd.S[i] + svd.S[j]);
-    const double flip = sign * p / floored(svd.S[i] - svd.S[j]);
+    const double twist = sign / floored(svd.S[i] + svd.S[j]);
+    const double flip = sign / floored(svd.S[i] - svd.S[j]);
     // vec(U (E_ij -+ E_ji) V^T) / sqrt 2, column-major like F.
     const Mat3 Eij = svd.U.col(i) * svd.V.col(j).transpose(), Eji = svd.U.col(j) * svd.V.col(i).transpose();
     const Mat3 T = (Eij - Eji) / std::sqrt(2.0), L = (Eij + Eji) / std::sqrt(2.0);
@@ -26,12 +36,54 @@ Mat12 compute_strain_limit_curvature(const RotationVariantSvd& svd, int i, bool 
     if (twist > 0) H += twist * t * t.transpose();
     if (flip > 0) H += flip * l * l.transpose();
   }
-  // x-space: dvec(F)/dx = B with B(r + 3c, 3a + r) = dN_a,c.
-  Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
-  for (int a = 0; a < 4; ++a)
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) B(r + 3 * c, 3 * a + r) = dN_dX(a, c);
+  const Eigen::Matrix<double, 9, 12> B = vec_F_by_x(dN_dX);
   return B.transpose() * H * B;
+}
+
+void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F, const StrainLimitRows& rows,
+                           std::array<Mat9, kStrainLimitCount>& hessians) {
+  uint32_t wanted = 0;
+  for (int r = 0; r < rows.count; ++r) wanted |= 1u << rows.row[r].index;
+  const Mat43 unused = Mat43::Zero();  // only dC/dF is read
+  for (int r = 0; r < rows.count; ++r) hessians[r].setZero();
+  for (int e = 0; e < 9; ++e) {
+    Mat3 dF = Mat3::Zero();
+    dF(e % 3, e / 3) = kCurvatureStep;
+    StrainLimitRows plus, minus;
+    // margin -inf: exactly the wanted rows, whatever their values.
+    evaluate_strain_limit(spec, F + dF, unused, -std::numeric_limits<double>::infinity(), wanted, plus);
+    evaluate_strain_limit(spec, F - dF, unused, -std::numeric_limits<double>::infinity(), wanted, minus);
+    // A row may vanish at a perturbed F (a_ij crossing 1e-12): its column stays 0.
+    for (int r = 0, p = 0, m = 0; r < rows.count; ++r) {
+      const int k = rows.row[r].index;
+      while (p < plus.count && plus.row[p].index < k) ++p;
+      while (m < minus.count && minus.row[m].index < k) ++m;
+      if (p == plus.count || m == minus.count || plus.row[p].index != k || minus.row[m].index != k) continue;
+      const Mat3 column = (plus.row[p].dF - minus.row[m].dF) / (2 * kCurvatureStep);
+      hessians[r].col(e) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(column.data());
+    }
+  }
+  for (int r = 0; r < rows.count; ++r) hessians[r] = 0.5 * (hessians[r] + hessians[r].transpose()).eval();
+}
+
+void compute_strain_limit_curvatures(const StrainLimitSpec& spec, const Mat3& F, const Mat43& dN_dX,
+                                     const StrainLimitRows& rows, std::array<Mat12, kStrainLimitCount>& out) {
+  if (rows.count == 0) return;
+  if (spec.mode == StrainLimitMode::Isotropic) {
+    const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+    for (int r = 0; r < rows.count; ++r)
+      out[r] = compute_isotropic_strain_limit_curvature(svd, rows.row[r].index / 6, rows.row[r].index % 2 == 1, dN_dX);
+    return;
+  }
+  std::array<Mat9, kStrainLimitCount> hessians;
+  strain_limit_hessians(spec, F, rows, hessians);
+  const Eigen::Matrix<double, 9, 12> B = vec_F_by_x(dN_dX);
+  for (int r = 0; r < rows.count; ++r) {
+    const Eigen::SelfAdjointEigenSolver<Mat9> eigen(-hessians[r]);
+    const Mat9 projected =
+        eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
+    out[r] = B.transpose() * projected * B;
+  }
 }
 
 }  // namespace sinew

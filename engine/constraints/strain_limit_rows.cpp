@@ -84,13 +84,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
     const Mat3 F = tet_deformation_gradient(model, x, e);
     evaluate_strain_limit(spec, F, dN_dX, margin, mask, found[i]);
-    const RotationVariantSvd svd = compute_rotation_variant_svd(F);
-    const Mat3 cosines = svd.V.transpose() * spec.frame;  // c_ij
-    for (int r = 0; r < found[i].count; ++r) {
-      const int k = found[i].row[r].index, axis = k / 6, j = (k / 2) % 3;
-      const double p = spec.mode == StrainLimitMode::Hyperbolic ? std::abs(cosines(axis, j)) : 1.0;
-      curvature[i][r] = compute_strain_limit_curvature(svd, axis, k % 2 == 1, p, dN_dX);
-    }
+    compute_strain_limit_curvatures(spec, F, dN_dX, found[i], curvature[i]);
   });
   // Rows in element order: the table does not depend on the thread count.
   for (size_t i = 0; i < candidates.size(); ++i) {

@@ -159,6 +159,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   VecX v, x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction;
   std::vector<double> psi, psi_trial, force2;
   gather_free(model, state.v, v);
+  state.v_start = v;
 
   int newton = 0, linear = 0;
   double first_norm = -1;

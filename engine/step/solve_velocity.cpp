@@ -64,6 +64,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   VecX delta = VecX::Zero(v0.size());
   const int iterations = solver.solve(state.rhs - state.system * v0, delta);
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += iterations;
+  state.v_start = v0;
   state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];

@@ -48,11 +48,11 @@ TEST_CASE("paper 001 fig. 2: anisotropic limits let the beam stretch along its a
   const double tol = 1e-3;  // solver.strain_tolerance of the scenes
   CHECK(iso.axial.hi <= 1.04 + tol);
   CHECK(iso.final_violation <= tol);
-  // Known shortfall (issue 5 stays open for it): the anisotropic rows' curvature leaves out
-  // their dependence on the principal directions, and during the swing SQP reaches its cap
-  // before the 1e-3 tolerance; the violation stays under 1 % strain past the limit.
-  CHECK(aniso.final_violation <= 1e-2);
-  CHECK(aniso.worst_transient <= 1e-1);
+  // Anisotropic: within the tolerance at every step too. (Before the rows' curvature held
+  // their dependence on the principal directions and SQP damped its swings, it reached its
+  // cap at 1-7 % past the limits in two thirds of these steps.)
+  CHECK(aniso.final_violation <= tol);
+  CHECK(aniso.worst_transient <= tol);
   // Anisotropic: the free axis carries the bending: its stretch exceeds the isotropic
   // bound by far (several times the 4 % the isotropic beam may use).
   CHECK(aniso.axial.hi - 1 > 3 * (iso.axial.hi - 1));

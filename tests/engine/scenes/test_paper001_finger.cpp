@@ -16,17 +16,27 @@ using namespace sinew::paper001;
 
 namespace {
 
-// Largest compression 1 - min |F d| along the press direction d after the press.
+// Largest compression 1 - min |F d| along the press direction d after the press; checks
+// that every step ends within the strain tolerance (the issue's "worst violation after SQP
+// at most 1e-3" in every strain-limited scene).
 double compression(const std::string& press, const std::string& limits, const Vec3& d, int frames) {
   World world = load_world("paper001_finger_" + press + "_" + limits);
-  for (int f = 0; f < frames; ++f) REQUIRE(world.step());
+  double worst = -1;
+  for (int f = 0; f < frames; ++f) {
+    REQUIRE(world.step());
+    worst = std::max(worst, worst_strain_limit_violation(world.model(), world.state().x));
+  }
+  MESSAGE(press << ", " << limits << ": worst strain-limit violation over the steps " << worst);
+  CHECK(worst <= world.model().solver.strain_tolerance);
   return 1 - stretch_along(world, d).lo;
 }
 
 }  // namespace
 
 TEST_CASE("paper 001 fig. 3: the anisotropic finger resists a side press far more than a flat one") {
-  const int frames = 40;  // the load is fully on after 30
+  // The load is fully on after 30 frames; the isotropic finger pressed flat then gives way
+  // and settles by frame 50 (at frame 40 it is mid-way, its compression a snapshot).
+  const int frames = 60;
   const double aniso_flat = compression("flat", "anisotropic", Vec3::UnitY(), frames);
   const double aniso_side = compression("side", "anisotropic", Vec3::UnitZ(), frames);
   const double iso_flat = compression("flat", "isotropic", Vec3::UnitY(), frames);

@@ -1,0 +1,138 @@
+// The curvature of strain-limit rows (strain_limit_curvature.hpp): the Hessian in F by
+// central differences of the analytic Jacobian must equal second differences of the
+// constraint values themselves, and the blocks SQP uses must be its positive part mapped
+// to the tet's coordinates, symmetric, PSD and finite everywhere.
+#include <doctest/doctest.h>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <cmath>
+#include <random>
+
+#include "engine/constraints/strain_limit_curvature.hpp"
+
+using namespace sinew;
+
+namespace {
+
+const double kInf = std::numeric_limits<double>::infinity();
+
+Mat3 random_rotation(std::mt19937& rng) {
+  std::normal_distribution<double> n(0, 1);
+  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
+}
+
+double value(const StrainLimitSpec& spec, const Mat3& F, int k) {
+  const StrainLimitValues v = compute_strain_limit_values(spec, compute_rotation_variant_svd(F));
+  REQUIRE((v.present >> k & 1u));
+  return v.C[k];
+}
+
+// d2C_k/dF2 from values only: (C(++) - C(+-) - C(-+) + C(--)) / 4 step^2 off the diagonal,
+// (C(+) - 2 C + C(-)) / step^2 on it. Error O(step^2) plus round-off ~1e-16 / step^2.
+Mat9 second_differences(const StrainLimitSpec& spec, const Mat3& F, int k, double step) {
+  Mat9 H;
+  const auto E = [&](int e) {
+    Mat3 d = Mat3::Zero();
+    d(e % 3, e / 3) = step;
+    return d;
+  };
+  for (int a = 0; a < 9; ++a)
+    for (int b = 0; b < 9; ++b)
+      H(a, b) = a == b ? (value(spec, F + E(a), k) - 2 * value(spec, F, k) + value(spec, F - E(a), k)) / (step * step)
+                       : (value(spec, F + E(a) + E(b), k) - value(spec, F + E(a) - E(b), k) -
+                          value(spec, F - E(a) + E(b), k) + value(spec, F - E(a) - E(b), k)) /
+                             (4 * step * step);
+  return H;
+}
+
+Mat43 tet_gradients() {
+  const Vec3 X[4] = {Vec3(0.01, -0.02, 0.0), Vec3(0.11, 0.01, -0.01), Vec3(-0.02, 0.09, 0.02), Vec3(0.03, 0.02, 0.12)};
+  Mat3 Dm;
+  for (int a = 1; a < 4; ++a) Dm.col(a - 1) = X[a] - X[0];
+  Mat43 dN;
+  dN.bottomRows<3>() = Dm.inverse();
+  dN.row(0) = -dN.bottomRows<3>().colwise().sum();
+  return dN;
+}
+
+}  // namespace
+
+TEST_CASE("strain limit curvature: the Hessian in F equals second differences of the values") {
+  std::mt19937 rng(5);
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.9, 0.8, 0.95);
+  spec.smax = Vec3(1.1, 1.3, 1.05);
+  // Stretches apart (the paper's cosines) and two within kStrainLimitBlendGap (blended).
+  const Vec3 stretches[] = {Vec3(1.2, 1.0, 0.9), Vec3(1.03, 1.02, 0.9)};
+  for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal, StrainLimitMode::Linear}) {
+    spec.mode = mode;
+    for (const Vec3& s : stretches) {
+      spec.frame = random_rotation(rng);
+      const Mat3 F = random_rotation(rng) * s.asDiagonal() * random_rotation(rng).transpose();
+      StrainLimitRows rows;
+      evaluate_strain_limit(spec, F, Mat43::Zero(), kInf, 0, rows);
+      REQUIRE(rows.count > 0);
+      std::array<Mat9, kStrainLimitCount> hessians;
+      strain_limit_hessians(spec, F, rows, hessians);
+      double worst = 0;
+      for (int r = 0; r < rows.count; ++r) {
+        REQUIRE(hessians[r].allFinite());
+        const double scale = std::max(hessians[r].norm(), 1.0);
+        // The error of second differences falls like step^2 |d4C| until round-off (~1e-16 /
+        // step^2 per entry, ~1e-6 at 1e-5); d4C grows like (s - 1) / gap^4, so stretches
+        // 0.01 apart need the smaller steps. The best of 1e-4 and 1e-5 is compared.
+        const auto error = [&](double step) {
+          return (second_differences(spec, F, rows.row[r].index, step) - hessians[r]).norm() / scale;
+        };
+        const double coarse = error(1e-3), fine = std::min(error(1e-4), error(1e-5));
+        CHECK(fine < coarse);
+        worst = std::max(worst, fine);
+      }
+      MESSAGE("mode " << int(mode) << ", s = " << s.transpose() << ": worst relative difference " << worst);
+      CHECK(worst < 1e-5);
+    }
+  }
+}
+
+TEST_CASE("strain limit curvature: blocks are the positive part of -d2C/dF2 in x, PSD and finite") {
+  std::mt19937 rng(9);
+  const Mat43 dN = tet_gradients();
+  Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();  // dvec(F)/dx
+  for (int a = 0; a < 4; ++a)
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) B(r + 3 * c, 3 * a + r) = dN(a, c);
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.95, 0.75, 0.98);
+  spec.smax = Vec3(1.05, 1.25, 1.02);
+  spec.frame = random_rotation(rng);
+  const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+  const Mat3 cases[] = {Q1 * Vec3(1.2, 1.0, 0.9).asDiagonal() * Q2.transpose(),
+                        Q1 * Vec3(1.03, 1.03, 0.98).asDiagonal() * Q2.transpose(), Mat3::Identity(),
+                        Q1 * Vec3(1.0, 0.0, 0.0).asDiagonal() * Q2.transpose(), Mat3::Zero()};
+  for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal, StrainLimitMode::Linear,
+                               StrainLimitMode::Isotropic}) {
+    spec.mode = mode;
+    for (int c = 0; c < 5; ++c) {
+      CAPTURE(c);
+      StrainLimitRows rows;
+      evaluate_strain_limit(spec, cases[c], dN, kInf, 0, rows);
+      std::array<Mat12, kStrainLimitCount> blocks;
+      compute_strain_limit_curvatures(spec, cases[c], dN, rows, blocks);
+      std::array<Mat9, kStrainLimitCount> hessians;
+      if (mode != StrainLimitMode::Isotropic) strain_limit_hessians(spec, cases[c], rows, hessians);
+      for (int r = 0; r < rows.count; ++r) {
+        REQUIRE(blocks[r].allFinite());
+        const double scale = std::max(blocks[r].norm(), 1e-300);
+        CHECK((blocks[r] - blocks[r].transpose()).norm() <= 1e-12 * scale);
+        CHECK(Eigen::SelfAdjointEigenSolver<Mat12>(blocks[r]).eigenvalues().minCoeff() >= -1e-10 * scale);
+        if (mode == StrainLimitMode::Isotropic) continue;
+        const Eigen::SelfAdjointEigenSolver<Mat9> eigen(-hessians[r]);
+        const Mat9 positive =
+            eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
+        CHECK((blocks[r] - B.transpose() * positive * B).norm() <= 1e-12 * std::max(scale, 1.0));
+      }
+    }
+  }
+}
