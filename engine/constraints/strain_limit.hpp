@@ -33,8 +33,8 @@
 //       a_ij^2 = c_ij^2 + sum_{l != i} w(|s_i - s_l| / kStrainLimitBlendGap) c_lj^2,
 //     w(t) = 1 - 3 t^2 + 2 t^3 for t < 1, 0 after (C1): the paper's |c_ij| once the
 //     stretches are 2 % apart; at equal stretches, the length of m_j's projection onto
-//     their plane, the same for every choice of axes in it (then a_ij (s_i - 1) is the
-//     fibre strain along m_j to first order, as the paper intends). a_ij >= |c_ij|: the
+//     their plane, the same for every choice of axes in it (for m_j in that plane,
+//     a_ij (s_i - 1) is then the fibre strain along m_j, as the paper intends). a_ij >= |c_ij|: the
 //     blend only tightens, it never hides a violation the paper's form would show.
 //   Orthogonal (eqs. 19-20): smin_ji = 1 + (smin_j - 1) a_ij, and so on:
 //       C_min_ji = (s_i - 1) - a_ij (smin_j - 1)
@@ -64,7 +64,8 @@
 //     Hyperbolic  min: p = a_ij, q_j = sign(c_ij) (s_i - 1)     (eq. 17)
 //                 max: p = -a_ij, q_j = -sign(c_ij) (s_i - 1)   (eq. 18)
 //                 where the blend is on (above), C also depends on s_l and c_lj (l != i):
-//                 strain_limit.cpp, add_hyperbolic_terms, differentiates a_ij exactly.
+//                 strain_limit.cpp, add_hyperbolic_terms, differentiates a_ij in full
+//                 (exact, like every mode, where the gaps exceed the tolerance below).
 //     Orthogonal  min: p = 1, q_j = -sign(c_ij) (smin_j - 1)
 //                 max: p = -1, q_j = sign(c_ij) (smax_j - 1)
 //     Linear      min: p = 1, q_j = -smin_j^2 c_ij / L_i(smin)

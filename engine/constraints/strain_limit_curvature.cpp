@@ -1,8 +1,9 @@
 #include "engine/constraints/strain_limit_curvature.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+
+#include "engine/materials/eigen_projection.hpp"
 
 namespace sinew {
 namespace {
@@ -78,12 +79,7 @@ void compute_strain_limit_curvatures(const StrainLimitSpec& spec, const Mat3& F,
   std::array<Mat9, kStrainLimitCount> hessians;
   strain_limit_hessians(spec, F, rows, hessians);
   const Eigen::Matrix<double, 9, 12> B = vec_F_by_x(dN_dX);
-  for (int r = 0; r < rows.count; ++r) {
-    const Eigen::SelfAdjointEigenSolver<Mat9> eigen(-hessians[r]);
-    const Mat9 projected =
-        eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
-    out[r] = B.transpose() * projected * B;
-  }
+  for (int r = 0; r < rows.count; ++r) out[r] = B.transpose() * project_numerically(-hessians[r]) * B;
 }
 
 }  // namespace sinew

@@ -21,6 +21,9 @@
 // 2) cycled at 1-7 % past the limits in two thirds of its frames. Their curvature is the
 // full Hessian in F by central differences of the analytic dC/dF (strain_limit.hpp, exact
 // where gaps exceed kStrainLimitGapTolerance), eigenvalues clamped at 0, then mapped to x.
+// Unlike the isotropic formula it has no gap floor: within ~1e-3 of equal stretches its
+// entries grow to ~1 / kStrainLimitGapTolerance (the clamped dV), and within the probe
+// step (1e-6) the probes may swap the axes' order (known; a bound is still to be added).
 #include <array>
 
 #include "engine/constraints/strain_limit.hpp"
@@ -30,7 +33,7 @@
 namespace sinew {
 
 using Mat12 = Eigen::Matrix<double, 12, 12>;
-using Mat9 = Eigen::Matrix<double, 9, 9>;
+using Mat9 = Eigen::Matrix<double, 9, 9>;  // as engine/materials/material.hpp
 
 constexpr double kCurvatureGap = 1e-2;
 constexpr double kCurvatureStep = 1e-6;  // central-difference step in F (dimensionless)

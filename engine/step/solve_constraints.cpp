@@ -208,9 +208,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // limits at 20 % past instead of < 1 %, every surface vertex a contact row). The
     // start-of-step velocities already satisfy them to first order: when v* strays from
     // them by more than a contact margin, the first QP is linearised there instead (its
-    // v_base stays v*; the QP's solution does not depend on where the rows were
-    // linearised, only its accuracy does). Closer than that, x* is the better guess (the
-    // resting creature: one SQP iteration fewer from x*).
+    // v_base stays v*; the linear model and the rows found within the margin differ, and
+    // rows violated only at x* join at the next iteration). Closer than that, x* is the
+    // better guess (the resting creature: one SQP iteration fewer from x*).
     if (k == 0 && !s.warm_start.empty() && strays_beyond_margin(model, s.v_start, v_star)) {
       v_free = s.v_start;
       scatter_free(model, v_free, s.v);
@@ -258,8 +258,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // for the rest of the step. Half steps from then on damp the swing. But a single rise
     // also happens when new rows join (the energy-limited sphere of paper 000 lands, and its
     // half steps then halve the violation each time, as the linear model predicts): after
-    // two such halvings, full steps are tried once more, and the next rise is final. Rises
-    // within the tolerances (the last corrections of a converging step) do not count.
+    // two iterations since the rise that each cut it to 0.6 of the one before (not
+    // necessarily in a row), full steps are tried once more, and the next rise is final.
+    // Rises within the tolerances (the last corrections of a converging step) do not count.
     if (k >= 2 && worst > 1 && worst > previous_worst) {
       step_fraction = 0.5;
       halvings = 0;

@@ -127,9 +127,10 @@ TEST_CASE("strain limit: every mode's Jacobian equals finite differences of its 
       MESSAGE(std::string(mode_name(mode))
               << ", s = " << s.transpose() << ": worst relative FD error " << worst_error);
       // The central differences' own error is ~ step^2 |d3C| / 6, and d3C grows like
-      // (s - 1) / gap^3 where stretches are a gap apart: 1e-6 for gaps of 0.1 or more, 2e-5
-      // for the 0.005-0.01 gaps (the smallest step moves F by ~1e-5: 1e-10 * 3e4 / 6 = 5e-7
-      // per unit of |J|, times the 12 coordinates).
+      // (s - 1) / gap^3 where stretches are a gap apart: 1e-6 for gaps of 0.1 or more; for
+      // the smallest gap tested, 0.005, d3C ~ 0.03 / 1.25e-7 = 2.4e5 and the smallest step
+      // moves F by ~1e-5, so ~1e-10 * 2.4e5 / 6 = 4e-6 per coordinate, 1.4e-5 over the 12
+      // (a norm: sqrt 12): 2e-5.
       const double gap = std::min(std::abs(s(0) - s(1)), std::abs(s(1) - s(2)));
       CHECK(worst_error < (gap >= 0.1 ? 1e-6 : 2e-5));
     }

@@ -1,6 +1,6 @@
 // Paper 001, fig. 2: a soft cantilever (E 5 kPa) with anisotropic strain limits (free along
 // its axis, 0.96-1.04 across) stretches along its axis far more than with isotropic limits
-// 0.96-1.04, and both keep their limits (up to the SQP tolerance once the motion settles).
+// 0.96-1.04, and both keep their limits (up to the SQP tolerance) at every step.
 #include "paper001_support.hpp"
 
 using namespace sinew;
