@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "engine/materials/eigen_projection.hpp"
 
@@ -41,19 +42,40 @@ Mat12 compute_isotropic_strain_limit_curvature(const RotationVariantSvd& svd, in
   return B.transpose() * H * B;
 }
 
-void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F, const StrainLimitRows& rows,
+namespace {
+
+// F with its singular values' magnitudes at least a gap apart, the same U and V: where
+// two stretches are closer than kCurvatureGap (relative, as the dV coupling's tolerance) the
+// curvature is taken where they are kCurvatureGap apart, plus the probe step so that no
+// probe swaps the axes' order. Closer, V turns at a rate ~1 / gap and so does the
+// (clamped) dV coupling's derivative: the Hessian would grow like 1 / gap.
+Mat3 separated_singular_values(const Mat3& F) {
+  const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+  Vec3 magnitude = svd.S.cwiseAbs();
+  const double gap = kCurvatureGap * std::max(magnitude(0), 1.0) + 4 * kCurvatureStep;
+  if (magnitude(0) - magnitude(1) >= gap && magnitude(1) - magnitude(2) >= gap) return F;
+  magnitude(0) = std::max(magnitude(0), magnitude(1) + gap);
+  magnitude(2) = std::max(0.0, std::min(magnitude(2), magnitude(1) - gap));
+  const Vec3 S(magnitude(0), magnitude(1), svd.S(2) < 0 ? -magnitude(2) : magnitude(2));
+  return svd.U * S.asDiagonal() * svd.V.transpose();
+}
+
+}  // namespace
+
+void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F_given, const StrainLimitRows& rows,
                            std::array<Mat9, kStrainLimitCount>& hessians) {
+  const Mat3 F = separated_singular_values(F_given);
   uint32_t wanted = 0;
   for (int r = 0; r < rows.count; ++r) wanted |= 1u << rows.row[r].index;
   const Mat43 unused = Mat43::Zero();  // only dC/dF is read
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
   for (int r = 0; r < rows.count; ++r) hessians[r].setZero();
   for (int e = 0; e < 9; ++e) {
     Mat3 dF = Mat3::Zero();
     dF(e % 3, e / 3) = kCurvatureStep;
-    StrainLimitRows plus, minus;
-    // margin -inf: exactly the wanted rows, whatever their values.
-    evaluate_strain_limit(spec, F + dF, unused, -std::numeric_limits<double>::infinity(), wanted, plus);
-    evaluate_strain_limit(spec, F - dF, unused, -std::numeric_limits<double>::infinity(), wanted, minus);
+    StrainLimitRows plus, minus;  // margin -inf: exactly the wanted rows, whatever their values
+    evaluate_strain_limit(spec, F + dF, unused, -kInfinity, wanted, plus);
+    evaluate_strain_limit(spec, F - dF, unused, -kInfinity, wanted, minus);
     // A row may vanish at a perturbed F (a_ij crossing 1e-12): its column stays 0.
     for (int r = 0, p = 0, m = 0; r < rows.count; ++r) {
       const int k = rows.row[r].index;

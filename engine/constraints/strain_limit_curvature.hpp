@@ -21,9 +21,10 @@
 // 2) cycled at 1-7 % past the limits in two thirds of its frames. Their curvature is the
 // full Hessian in F by central differences of the analytic dC/dF (strain_limit.hpp, exact
 // where gaps exceed kStrainLimitGapTolerance), eigenvalues clamped at 0, then mapped to x.
-// Unlike the isotropic formula it has no gap floor: within ~1e-3 of equal stretches its
-// entries grow to ~1 / kStrainLimitGapTolerance (the clamped dV), and within the probe
-// step (1e-6) the probes may swap the axes' order (known; a bound is still to be added).
+// Bounded like the isotropic formula: where two stretches are closer than kCurvatureGap
+// (relative) it is taken at the F with the same U, V and stretches that far apart (plus
+// the probe step, so no probe swaps the axes' order: C has a kink where the i-th largest
+// stretch changes axis). Closer, V turns like 1 / gap and the Hessian would grow with it.
 #include <array>
 
 #include "engine/constraints/strain_limit.hpp"
@@ -43,7 +44,7 @@ Mat12 compute_isotropic_strain_limit_curvature(const RotationVariantSvd& svd, in
                                                const Mat43& dN_dX);
 
 // d2C_k/dF2 (9 x 9 over vec(F), column-major) of every row in `rows` (evaluated at F, any
-// mode), by central differences of dC/dF; symmetrised.
+// mode), by central differences of dC/dF, stretches kept apart as above; symmetrised.
 void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F, const StrainLimitRows& rows,
                            std::array<Mat9, kStrainLimitCount>& hessians);
 

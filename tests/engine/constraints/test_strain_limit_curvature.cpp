@@ -65,8 +65,9 @@ TEST_CASE("strain limit curvature: the Hessian in F equals second differences of
   StrainLimitSpec spec;
   spec.smin = Vec3(0.9, 0.8, 0.95);
   spec.smax = Vec3(1.1, 1.3, 1.05);
-  // Stretches apart (the paper's cosines) and two within kStrainLimitBlendGap (blended).
-  const Vec3 stretches[] = {Vec3(1.2, 1.0, 0.9), Vec3(1.03, 1.02, 0.9)};
+  // Stretches apart (the paper's cosines) and two within kStrainLimitBlendGap (blended) but
+  // beyond kCurvatureGap (where the probes' dV is exact).
+  const Vec3 stretches[] = {Vec3(1.2, 1.0, 0.9), Vec3(1.035, 1.02, 0.9)};
   for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal, StrainLimitMode::Linear}) {
     spec.mode = mode;
     for (const Vec3& s : stretches) {
@@ -140,6 +141,62 @@ TEST_CASE("strain limit curvature: blocks are the positive part of -d2C/dF2 in x
             eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
         const double B2 = Eigen::JacobiSVD<Eigen::Matrix<double, 9, 12>>(B).singularValues()(0);
         CHECK((blocks[r] - B.transpose() * positive * B).norm() <= B2 * B2 * 1e-5 * std::max(H.norm(), 1.0));
+      }
+    }
+  }
+}
+
+TEST_CASE("strain limit curvature: bounded as two stretches meet, whichever side the probes fall") {
+  // Closer than kCurvatureGap the curvature is taken at stretches kCurvatureGap apart (same
+  // U, V). Unguarded, it grew like 1 / gap (V turns that fast, and so does the clamped dV
+  // coupling), reaching ~1 / probe step once a probe swapped the axes' order: 160-300 times
+  // its value at a gap of 1e-3 for these F. Here F = Q1 diag(1.04, 1.04, 0.97) Q2^T plus a
+  // random perturbation of size eps, which picks U and V in the plane at random; as eps
+  // falls from 1e-3 to 0 the largest block must stay below the largest over 64 bases of the
+  // plane with the stretches the floor apart (the same family of F), up to 25 %: the
+  // perturbation moves the stretches by up to ~eps, 10 % of the floor, and the Hessian
+  // scales like 1 / gap^2 there; the 64 samples of a smooth function of the angle miss its
+  // maximum by far less.
+  std::mt19937 rng(13);
+  std::normal_distribution<double> normal(0, 1);
+  const Mat43 dN = tet_gradients();
+  StrainLimitSpec spec;
+  spec.smin = Vec3(0.95, 0.75, 0.98);
+  spec.smax = Vec3(1.05, 1.25, 1.02);
+  const auto largest_block = [&](const Mat3& F) {
+    StrainLimitRows rows;
+    evaluate_strain_limit(spec, F, dN, kInf, 0, rows);
+    std::array<Mat12, kStrainLimitCount> blocks;
+    compute_strain_limit_curvatures(spec, F, dN, rows, blocks);
+    double largest = 0;
+    for (int r = 0; r < rows.count; ++r) {
+      REQUIRE(blocks[r].allFinite());
+      largest = std::max(largest, blocks[r].norm());
+    }
+    return largest;
+  };
+  const auto in_plane = [](double angle) {
+    return Mat3(Eigen::AngleAxisd(angle, Vec3::UnitZ()));  // turns axes 0 and 1 of diag(.)
+  };
+  for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal, StrainLimitMode::Linear}) {
+    spec.mode = mode;
+    for (int trial = 0; trial < 3; ++trial) {
+      spec.frame = random_rotation(rng);
+      const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+      double reference = 0;
+      for (int b = 0; b < 64; ++b) {
+        const Mat3 R = in_plane(M_PI * b / 64);
+        const Vec3 apart(1.04 + kCurvatureGap * 1.04 + 4 * kCurvatureStep, 1.04, 0.97);
+        reference = std::max(reference, largest_block(Q1 * R * apart.asDiagonal() * R.transpose() * Q2.transpose()));
+      }
+      REQUIRE(reference > 0);
+      for (const double eps : {1e-3, 1e-4, 1e-5, 2e-6, 1e-6, 5e-7, 1e-8, 0.0}) {
+        CAPTURE(eps);
+        Mat3 E;
+        for (int e = 0; e < 9; ++e) E(e % 3, e / 3) = eps * normal(rng);
+        const double ratio = largest_block(Q1 * Vec3(1.04, 1.04, 0.97).asDiagonal() * Q2.transpose() + E) / reference;
+        MESSAGE("mode " << int(mode) << " eps " << eps << " ratio " << ratio);
+        CHECK(ratio <= 1.25);
       }
     }
   }

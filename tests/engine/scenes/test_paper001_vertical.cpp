@@ -1,6 +1,9 @@
 // Paper 001, fig. 4: a soft column (E 10 kPa) fixed at its base sinks under gravity and
-// bulges; only its x axis is limited to 0.95-1.05. The three ways of carrying the limit to
-// the principal axes behave as the paper reports:
+// bulges; only its x axis is limited to 0.95-1.05. It stands on a ground plane: too soft
+// to carry its own weight, it buckles and folds onto the ground (without one, it folded
+// down through its fixed base, its hinge tets inverted to det F = -2, and the hyperbolic
+// rows of those tets could not be met in a step: the run diverged at frame ~96).
+// The three ways of carrying the limit to the principal axes behave as the paper reports:
 // - orthogonal projection gives every principal axis not along x the limits [1, 1]
 //   (eqs. 19-20): its constraints are violated from the first frames and hold the column
 //   nearly frozen;
@@ -44,7 +47,7 @@ ColumnRun run(const std::string& mode, int frames, double tol) {
 
 TEST_CASE("paper 001 fig. 4: orthogonal projection freezes, linear interpolation passes the limit, hyperbolic holds") {
   const double tol = 1e-3;  // solver.strain_tolerance of the scenes
-  const int frames = 90;
+  const int frames = 120;  // the scenes' length
   const ColumnRun orthogonal = run("orthogonal", frames, tol);
   const ColumnRun linear = run("linear", frames, tol);
   const ColumnRun hyperbolic = run("hyperbolic", frames, tol);
@@ -53,11 +56,11 @@ TEST_CASE("paper 001 fig. 4: orthogonal projection freezes, linear interpolation
   MESSAGE("linear: |F e_x| past 1.05 at frame " << linear.first_x_past_limit << " (max " << linear.max_x_stretch
                                               << "), own constraints first violated at frame " << linear.first_violation);
   MESSAGE("hyperbolic: worst violation " << hyperbolic.worst_violation << ", max |F e_x| " << hyperbolic.max_x_stretch);
-  // The paper reports the violation in the first frame; here the orthogonal rows hold for
-  // the first 3 (their curvature includes the principal directions, so SQP meets more of
-  // an over-tight set), then fail as it does, and the column stays frozen all the same.
+  // The paper reports the violation in the first frame; here it comes at the end of the
+  // second (index 1): the column starts at rest, and the first step's sag is within the
+  // tolerance of the [1, 1] limits. The column stays frozen all the same.
   CHECK(orthogonal.first_violation >= 0);
-  CHECK(orthogonal.first_violation <= 5);
+  CHECK(orthogonal.first_violation <= 1);
   CHECK(orthogonal.sink < 0.1 * hyperbolic.sink);
   CHECK(linear.first_x_past_limit >= 0);
   CHECK((linear.first_violation < 0 || linear.first_x_past_limit < linear.first_violation));
