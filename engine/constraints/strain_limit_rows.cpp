@@ -73,7 +73,6 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     if (is_limited(model, e) && (worst[e] > -margin || has_kept)) candidates.push_back(e);
   }
   std::vector<StrainLimitRows> found(candidates.size());
-  std::vector<std::array<Mat12, kStrainLimitCount>> curvature(candidates.size());
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
     const int e = candidates[i];
     const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
@@ -84,7 +83,6 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
     const Mat3 F = tet_deformation_gradient(model, x, e);
     evaluate_strain_limit(spec, F, dN_dX, margin, mask, found[i]);
-    compute_strain_limit_curvatures(spec, F, dN_dX, found[i], curvature[i]);
   });
   // Rows in element order: the table does not depend on the thread count.
   for (size_t i = 0; i < candidates.size(); ++i) {
@@ -93,12 +91,42 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
       const StrainLimitRow& row = found[i].row[r];
       const int r_index = rows.add_row(RowKind::Strain, row.value, 0.0, 1e300, row_key(RowKind::Strain, e, row.index));
       rows.element[r_index] = e;
-      rows.curvature_block[r_index] = static_cast<int>(rows.curvature_blocks.size());
-      rows.curvature_blocks.push_back(curvature[i][r]);
       for (int a = 0; a < 4; ++a) rows.add_entry(model.element_nodes[e][a], row.jac.segment<3>(3 * a));
     }
   }
   return overall(model, worst);
+}
+
+void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& rows) {
+  // Per tet, the rows to do as a StrainLimitRows holding only their indices (all that
+  // compute_strain_limit_curvatures reads), and where each goes in the table.
+  struct Tet {
+    int element;
+    StrainLimitRows wanted;
+    std::array<int, kStrainLimitCount> table_row;
+  };
+  std::vector<Tet> tets;
+  for (int i = 0; i < rows.size(); ++i) {
+    if (rows.kind[i] != RowKind::Strain || rows.lambda[i] <= 0 || rows.curvature_block[i] >= 0) continue;
+    const int e = rows.element[i];
+    if (tets.empty() || tets.back().element != e) tets.push_back({e, {}, {}});
+    Tet& tet = tets.back();
+    tet.table_row[tet.wanted.count] = i;
+    tet.wanted.row[tet.wanted.count++].index = static_cast<int>(rows.key[i] & 0xFFFFFF);
+  }
+  std::vector<std::array<Mat12, kStrainLimitCount>> blocks(tets.size());
+  tbb::parallel_for(size_t(0), tets.size(), [&](size_t t) {
+    const int e = tets[t].element;
+    StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+    spec.frame = model.element_strain_frame[e];
+    const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
+    compute_strain_limit_curvatures(spec, tet_deformation_gradient(model, x, e), dN_dX, tets[t].wanted, blocks[t]);
+  });
+  for (size_t t = 0; t < tets.size(); ++t)
+    for (int r = 0; r < tets[t].wanted.count; ++r) {
+      rows.curvature_block[tets[t].table_row[r]] = static_cast<int>(rows.curvature_blocks.size());
+      rows.curvature_blocks.push_back(blocks[t][r]);
+    }
 }
 
 double worst_strain_limit_violation(const Model& model, const VecX& x) {

@@ -11,9 +11,16 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
 
 // Adds a row for every constraint with C < margin at x, or whose key is in `keep` (sorted;
 // rows that carried force earlier in this step). Returns the worst violation max(-C) over
-// all limited tets (-1 when none). Rows are linear for SQP (no curvature term).
+// all limited tets (-1 when none). Their curvature blocks come later, once PGS has said
+// which rows carry force (below).
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows);
+
+// Curvature blocks (strain_limit_curvature.hpp) of the strain rows with lambda > 0 that
+// have none yet, at x (the rows' linearisation point). Only those enter SQP's Hessian
+// (solve_constraints.cpp), and a block costs 18 evaluations of the tet's rows: most rows
+// near their limits carry no force.
+void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& rows);
 
 // The same worst violation, without rows.
 double worst_strain_limit_violation(const Model& model, const VecX& x);

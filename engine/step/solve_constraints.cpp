@@ -251,6 +251,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
                          IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
                    .iterations;
       }
+      if (model.has_strain_limits) {
+        StageTimer rows_timer(profile, Stage::Rows);
+        add_strain_limit_curvatures(model, x0 + h * s.v, s.rows);  // s.v: still the rows' point
+      }
       StageTimer timer(profile, Stage::SqpSolve);
       VecX correction = VecX::Zero(v_free.size());
       solver.solve(apply_jacobian_transpose(model, s.rows), correction);
