@@ -2,8 +2,9 @@
 // The stages of a time step, named once, each timed into a StepProfile (Box2D-style).
 #include <array>
 #include <chrono>
-#include <map>
 #include <string>
+
+#include "engine/profile_map.hpp"
 
 namespace sinew {
 
@@ -40,14 +41,22 @@ struct IterationCaps {
 struct StepProfile {
   std::array<double, kStageCount> ms{};               // wall time per stage
   std::array<std::string, kStageCount> skipped{};     // reason when a stage did no work
-  std::map<std::string, int> rows;                    // active constraint rows by kind
-  std::map<std::string, int> iterations;              // by solver: pcg, pgs, sqp; and events
+  ProfileMap<int> rows;                               // active constraint rows by kind
+  ProfileMap<int> iterations;                         // by solver: pcg, pgs, sqp; and events
                                                       // (sleeping_bodies: bodies asleep this step)
-  std::map<std::string, double> violation;            // worst violation by kind
+  ProfileMap<double> violation;                       // worst violation by kind
   StepWork work;
   double step_ms = 0;
   bool finite = true;
-  void clear() { *this = StepProfile{}; }
+  // Empties it for the next step, keeping the storage (no allocation once warm).
+  void clear() {
+    ms.fill(0);
+    for (std::string& reason : skipped) reason.clear();
+    rows.clear(), iterations.clear(), violation.clear();
+    work = {};
+    step_ms = 0;
+    finite = true;
+  }
 };
 
 class StageTimer {

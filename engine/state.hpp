@@ -10,11 +10,27 @@
 #include "engine/constraints/delassus.hpp"
 #include "engine/constraints/row_column_cache.hpp"
 #include "engine/constraints/touched_inverse.hpp"
+#include "engine/core/scratch_matrix.hpp"
 #include "engine/core/types.hpp"
 #include "engine/profile.hpp"
 #include "engine/sleep/sleep_state.hpp"
 
 namespace sinew {
+
+// Vectors of the step (World, solve_velocity, solve_constraints), kept across steps so that a
+// warm step allocates nothing: the VecX are 3 x free nodes or 3 x nodes, sizes that do not
+// change.
+struct StepScratch {
+  VecX step_x0, step_v0, attempt_x0, attempt_v0;  // World: states to roll back to
+  VecX x0, x_iterate, v_star, v_free, v_base, v_next, dv, residual, step, correction, impulse;
+  ScratchMatrix per_row;  // m x 2: the LCP's c and PGS's residual weights
+  std::vector<uint64_t> keep;
+  // solve_newton's
+  SparseMatrix newton_A0, newton_H;
+  VecX newton_x0, newton_b0, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
+      negative_gradient;
+  std::vector<double> psi, psi_trial, force2, body_stiffness;
+};
 
 struct State {
   double t = 0;                      // simulated time, s
@@ -36,6 +52,7 @@ struct State {
   RowColumnCache row_columns;        // H^-1 J_i^T per row, per factorisation, when W is formed
                                      // from one solve per row (constraints)
   std::vector<const double*> row_column_scratch;
+  StepScratch scratch;
   SparseMatrix sqp_system;           // H = A plus the constraints' curvature (solve, constraints)
   std::vector<double> curvature;     // per element: h sum lambda_i curvature_i of its rows, from
                                      // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T

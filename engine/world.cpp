@@ -68,7 +68,8 @@ bool World::step() {
   if (attempt_step()) return true;
   const double t0 = s.t, h = m_model.h;
   const long count0 = s.step_count;
-  const VecX x0 = s.x, v0 = s.v;
+  const VecX& x0 = s.scratch.step_x0 = s.x;
+  const VecX& v0 = s.scratch.step_v0 = s.v;
   int retries = 1;
   bool ok = false;
   int substeps_used = 1;
@@ -131,7 +132,8 @@ bool World::attempt_step() {
   const int asleep = s.sleep.count();  // during this step
   const Model& model = stage_model();
   const long factorizations = m_solver.factorizations(), solves = m_solver.solves(), rows = s.rows.appended;
-  const VecX x0 = s.x, v0 = s.v;
+  const VecX& x0 = s.scratch.attempt_x0 = s.x;
+  const VecX& v0 = s.scratch.attempt_v0 = s.v;
 
   {
     StageTimer timer(s.profile, Stage::Assemble);

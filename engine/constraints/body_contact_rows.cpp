@@ -78,15 +78,26 @@ ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const
   const int nb = static_cast<int>(model.bodies.size());
   if (nb < 2) return result;
   const double h = model.h, mu = model.solver.body_friction;
-  std::vector<uint32_t> first_vertex(nb + 1, 0);
+  // Kept storage (a warm step allocates nothing), bound to local references so that the
+  // parallel tasks below see this thread's, not their own thread's.
+  thread_local std::vector<uint32_t> first_vertex_storage;
+  thread_local std::vector<Aabb> bounds_storage;
+  thread_local std::vector<char> refitted_storage;
+  thread_local std::vector<int> candidates_storage;
+  thread_local std::vector<Probe> probes_storage;
+  thread_local RowStencil stencil_storage;
+  std::vector<uint32_t>& first_vertex = first_vertex_storage;
+  std::vector<Aabb>& bounds = bounds_storage;
+  std::vector<char>& refitted = refitted_storage;
+  std::vector<int>& candidates = candidates_storage;
+  std::vector<Probe>& probes = probes_storage;
+  RowStencil& stencil = stencil_storage;
+  first_vertex.assign(nb + 1, 0);
   for (int b = 0; b < nb; ++b)
     first_vertex[b + 1] = first_vertex[b] + static_cast<uint32_t>(model.bodies[b].embedding.cell.size());
-  std::vector<Aabb> bounds(nb);
+  bounds.resize(nb);
   for (int b = 0; b < nb; ++b) bounds[b] = body_surface_bounds(x, model.bodies[b]);
-  std::vector<bool> refitted(nb, false);
-  std::vector<int> candidates;
-  std::vector<Probe> probes;
-  RowStencil stencil;
+  refitted.assign(nb, 0);
   for (int a = 0; a < nb; ++a) {
     const Body& body_a = model.bodies[a];
     const double margin = contact_margin(model, a);
@@ -95,12 +106,17 @@ ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const
       const Body& body_b = model.bodies[b];
       const uint32_t partner = body_partner(model, b);
       // Broad phase: A's cells whose surface bounds come within the margin of B's.
-      const auto near = [&](const Aabb& box) { return box_distance(box, bounds[b]) < margin; };
+      // One captured pointer: small enough for std::function to hold without allocating.
+      const struct {
+        const Aabb& bounds;
+        double margin;
+      } query{bounds[b], margin};
+      const auto near = [q = &query](const Aabb& box) { return box_distance(box, q->bounds) < q->margin; };
       gather_candidates(x, body_a, near, search == ContactSearch::BruteForce, first_vertex[a], partner, keep,
                         candidates);
       if (candidates.empty()) continue;
       if (!refitted[b]) deformed_surface(model, b, x, surfaces);
-      refitted[b] = true;
+      refitted[b] = 1;
       const MeshSdf& surface = *surfaces.mesh[b];
       // Nearest point on B for each candidate (unbounded search, so that the sign is right
       // even for a vertex deep inside B); one task per slot.

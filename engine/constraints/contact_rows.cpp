@@ -91,13 +91,13 @@ uint32_t contact_site(const Body& body, int vertex) {
 // a row per vertex only adds nearly dependent copies that cost a solve column each (and
 // slow PGS). When the deepest vertex of a site changes between SQP iterations, the new
 // one joins and the old one stays (kept), so the rows still converge.
-std::vector<Probe> representative_probes(const Body& body, const std::vector<Probe>& probes, uint32_t first_vertex,
-                                         uint32_t obstacle, const std::vector<uint64_t>& keep) {
-  std::vector<std::pair<uint32_t, int>> order;  // (site, probe index)
-  order.reserve(probes.size());
+void representative_probes(const Body& body, const std::vector<Probe>& probes, uint32_t first_vertex,
+                           uint32_t obstacle, const std::vector<uint64_t>& keep, std::vector<Probe>& out) {
+  thread_local std::vector<std::pair<uint32_t, int>> order;  // (site, probe index); kept storage
+  order.clear();
   for (int i = 0; i < static_cast<int>(probes.size()); ++i) order.emplace_back(contact_site(body, probes[i].vertex), i);
   std::sort(order.begin(), order.end());
-  std::vector<Probe> out;
+  out.clear();
   for (size_t i = 0; i < order.size();) {
     const Probe* best = &probes[order[i].second];
     size_t j = i;
@@ -113,7 +113,6 @@ std::vector<Probe> representative_probes(const Body& body, const std::vector<Pro
     i = j;
   }
   std::sort(out.begin(), out.end(), [](const Probe& a, const Probe& b) { return a.vertex < b.vertex; });
-  return out;
 }
 
 }  // namespace
@@ -122,8 +121,9 @@ ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX&
                                    const std::vector<uint64_t>& keep, RowTable& rows, ContactSearch search) {
   ContactRowsResult result;
   const double h = model.h;
-  std::vector<int> candidates;
-  std::vector<Probe> probes;
+  // Kept storage: a warm step allocates nothing.
+  thread_local std::vector<int> candidates;
+  thread_local std::vector<Probe> probes, representatives;
   for (uint32_t k = 0; k < model.obstacles.size(); ++k) {
     const ObstacleDesc& ob = model.obstacles[k];
     const Vec3 origin = obstacle_position(ob, t_end);
@@ -139,11 +139,18 @@ ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX&
       }
       const double margin = contact_margin(model, b);
       // Broad phase: cells whose surface bounds may come within the margin of the obstacle.
-      const auto near = [&](const Aabb& box) { return obstacle_distance_bound(ob, origin, box) < margin; };
+      // One captured pointer: small enough for std::function to hold without allocating.
+      const struct {
+        const ObstacleDesc& ob;
+        const Vec3& origin;
+        double margin;
+      } query{ob, origin, margin};
+      const auto near = [q = &query](const Aabb& box) { return obstacle_distance_bound(q->ob, q->origin, box) < q->margin; };
       gather_candidates(x, body, near, search == ContactSearch::BruteForce, first_vertex, k, keep, candidates);
       evaluate_probes(x, v, body, ob, origin, candidates, search == ContactSearch::BruteForce, probes);
       result.candidates += static_cast<int>(probes.size());
-      for (const Probe& probe : representative_probes(body, probes, first_vertex, k, keep)) {
+      representative_probes(body, probes, first_vertex, k, keep, representatives);
+      for (const Probe& probe : representatives) {
         const uint32_t id = first_vertex + probe.vertex;
         const uint64_t key = contact_key(id, k);
         result.deepest = std::max(result.deepest, -probe.sdf.phi);

@@ -13,6 +13,7 @@
 
 #include "engine/constraints/row_table.hpp"
 #include "engine/constraints/touched_inverse.hpp"
+#include "engine/core/scratch_matrix.hpp"
 #include "engine/core/types.hpp"
 
 namespace sinew {
@@ -34,20 +35,36 @@ class Delassus {
   double diagonal(int i) const { return m_diagonal[i]; }
   // The interface of solve_pgs: start from lambda; w_i for the current lambda; lambda_i
   // changed by delta.
-  void start(const VecX& lambda, const VecX& c);
+  void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c);
   double w(int i) const;
   void changed(int i, double delta);
   // W itself (tests, and lcp_residual): formed from T whatever the form.
   MatX matrix() const;
 
  private:
+  // Views of the kept storage (scratch_matrix.hpp: no allocation once warm).
+  Eigen::Map<MatX> T() const { return m_T_storage.view(m_k3, size()); }
+  Eigen::Map<MatX> W() const { return m_W_storage.view(size(), size()); }
+  Eigen::Map<VecX> c() const { return m_c_storage.vector(size()); }
+  Eigen::Map<VecX> state() const { return m_state_storage.vector(m_dense ? size() : m_k3); }
+  // W_ij = W_ji = (W_ij + W_ji) / 2: symmetric in exact arithmetic, and PGS's column
+  // updates assume it.
+  void symmetrize_W();
+
   bool m_dense = false;
+  bool m_direct = false;              // built from Y (build_direct): no T
+  int m_k3 = 0;                       // 3 x touched nodes: T's rows
   std::vector<int> m_begin, m_local;  // rows' stencils in touched-node positions
   std::vector<Vec3> m_jac;
-  MatX m_T;                           // 3k x m: G Jc^T
-  MatX m_W;                           // dense form only
+  mutable ScratchMatrix m_T_storage;  // 3k x m: G Jc^T
+  mutable ScratchMatrix m_W_storage;  // dense form only
   std::vector<double> m_diagonal;
-  VecX m_c, m_state;                  // dense: w; factored: u = T lambda
+  std::vector<const double*> m_columns;  // build_direct from a MatX
+  // PGS's hot loop reads through these (set by start(); the storage does not move after).
+  const double* m_c_data = nullptr;
+  double* m_state_data = nullptr;
+  const double* m_columns_data = nullptr;  // W (dense) or T, column-major
+  mutable ScratchMatrix m_c_storage, m_state_storage, m_product_storage;  // dense: w; factored: u = T lambda
 };
 
 }  // namespace sinew

@@ -27,9 +27,14 @@ EnergyJacobian jacobian_mode(const Model& model, int e) {
                                                                                : EnergyJacobian::Exact;
 }
 
-// Ue / Umax per element (0 for elements without a limit).
-std::vector<double> energy_ratios(const Model& model, const VecX& x) {
-  std::vector<double> ratio(model.num_elements, 0.0);
+// Ue / Umax per element (0 for elements without a limit), into kept storage (a warm step
+// allocates nothing); valid until the next call on this thread.
+const std::vector<double>& energy_ratios(const Model& model, const VecX& x) {
+  // Bound to a local reference: the parallel tasks below must see this thread's vector,
+  // not their own thread's.
+  thread_local std::vector<double> storage;
+  std::vector<double>& ratio = storage;
+  ratio.assign(model.num_elements, 0.0);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (model.element_Umax[e] <= 0) return;
     ratio[e] = element_limit_energy(model, e, element_corotated_displacement(model, x, e)) / model.element_Umax[e];
@@ -48,7 +53,7 @@ double worst_of(const Model& model, const std::vector<double>& ratio) {
 
 double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows) {
-  const std::vector<double> ratio = energy_ratios(model, x);
+  const std::vector<double>& ratio = energy_ratios(model, x);
   for (int e = 0; e < model.num_elements; ++e) {
     if (model.element_Umax[e] <= 0) continue;
     const uint64_t key = row_key(RowKind::Energy, e);

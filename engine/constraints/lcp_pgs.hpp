@@ -17,7 +17,8 @@ struct PgsResult {
 };
 
 // Row i's multiplier bounds at the current lambda (friction rows follow their normal row).
-inline void pgs_bounds(const RowTable& rows, const VecX& lambda, int i, double& lo, double& hi) {
+template <typename Lambda>
+inline void pgs_bounds(const RowTable& rows, const Lambda& lambda, int i, double& lo, double& hi) {
   const int n = rows.normal_row[i];
   if (n < 0) {
     lo = rows.lo[i], hi = rows.hi[i];
@@ -42,11 +43,11 @@ inline void pgs_bounds(const RowTable& rows, const VecX& lambda, int i, double& 
 // has converged. Measured after the sweep, not during it: in a redundant set a row's own
 // update is mostly undone by its neighbours', so the size of the updates says little.
 template <typename Operator>
-PgsResult solve_pgs(Operator& W, const VecX& c, const VecX& weight, RowTable& rows, int max_iterations,
-                    double tolerance) {
+PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::Ref<const VecX>& weight,
+                    RowTable& rows, int max_iterations, double tolerance) {
   constexpr int kRefresh = 16;
   const int m = rows.size();
-  VecX lambda = Eigen::Map<const VecX>(rows.lambda.data(), m);
+  Eigen::Map<VecX> lambda(rows.lambda.data(), m);  // solved in place
   PgsResult result;
   for (int it = 0; it < max_iterations; ++it) {
     if (it % kRefresh == 0) W.start(lambda, c);
@@ -69,7 +70,6 @@ PgsResult solve_pgs(Operator& W, const VecX& c, const VecX& weight, RowTable& ro
     }
     if (result.residual <= tolerance) break;
   }
-  std::copy(lambda.data(), lambda.data() + m, rows.lambda.begin());
   return result;
 }
 
@@ -78,7 +78,7 @@ class DenseLcpMatrix {
  public:
   explicit DenseLcpMatrix(const MatX& W) : m_W(W) {}
   double diagonal(int i) const { return m_W(i, i); }
-  void start(const VecX& lambda, const VecX& c) { m_w.noalias() = m_W * lambda + c; }
+  void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c) { m_w.noalias() = m_W * lambda + c; }
   double w(int i) const { return m_w[i]; }
   void changed(int i, double delta) { m_w.noalias() += m_W.col(i) * delta; }  // symmetric: column = row
 

@@ -7,10 +7,11 @@
 // so only the rows that changed, mostly energy limits, cost solves after the first iteration.
 #include <algorithm>
 #include <cstdint>
-#include <unordered_map>
+#include <deque>
 #include <vector>
 
 #include "engine/constraints/row_table.hpp"
+#include "engine/core/scratch_matrix.hpp"
 #include "engine/core/types.hpp"
 
 namespace sinew {
@@ -18,17 +19,17 @@ namespace sinew {
 class RowColumnCache {
  public:
   // Forget every column: H was refactorised.
-  void reset() { m_entries.clear(); }
+  void reset();
 
   // Points columns[i] at y_i (3 free-DOF values) for every row of `rows`: kept, or solved by
-  // one call `solve_many(B, X)` (X = H^-1 B) for all the rows without one. `free_index[n]` is
+  // one call `solve_many(B, X)` (X = H^-1 B, X given with B's size) for all the rows without one. `free_index[n]` is
   // the free index of global node n or -1. The pointers hold until the next call or reset().
   // Returns the columns solved.
   template <typename SolveMany>
   int columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany&& solve_many,
               std::vector<const double*>& columns);
 
-  int size() const { return static_cast<int>(m_entries.size()); }
+  int size() const { return static_cast<int>(m_index.size()); }
 
  private:
   struct Entry {
@@ -42,16 +43,27 @@ class RowColumnCache {
   // factorisation kept for several steps would otherwise keep every row it ever saw.
   void evict(int rows);
   void store(const RowTable& rows, int i, const double* y, int free_dofs);
+  // Free slots enough for `entries` entries in all. After each call at most its rows stay
+  // (evict), so a call of m rows holds at most m_before + m: with 2 m slots ready the
+  // cache allocates only when the row count exceeds every earlier call's.
+  void ensure_slots(int entries, int free_dofs);
   // Solves the rows of m_missing in one call and stores their columns.
   template <typename SolveMany>
   void solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany& solve_many,
                      std::vector<const double*>& columns);
 
-  std::unordered_map<uint64_t, Entry> m_entries;
+  // The entry of a key, or nullptr.
+  Entry* find(uint64_t key);
+
+  // Entries live in m_slots and are recycled through m_free_slots with their buffers, so
+  // that a warm cache allocates nothing; m_index maps keys to slots, sorted by key.
+  std::deque<Entry> m_slots;  // a deque: growing it moves no entry (columns[] point into them)
+  std::vector<int> m_free_slots;
+  std::vector<std::pair<uint64_t, int>> m_index;
   long m_call = 0;
   std::vector<int> m_missing;
   std::vector<uint64_t> m_kept;
-  MatX m_B, m_X;
+  ScratchMatrix m_B, m_X;
 };
 
 template <typename SolveMany>
@@ -59,14 +71,15 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
                             SolveMany&& solve_many, std::vector<const double*>& columns) {
   const int m = rows.size();
   ++m_call;
+  ensure_slots(2 * m, free_dofs);
   columns.assign(m, nullptr);
   m_missing.clear();
   m_kept.clear();
   for (int i = 0; i < m; ++i) {
-    const auto it = m_entries.find(rows.key[i]);
-    if (it != m_entries.end() && matches(it->second, rows, i, free_dofs)) {
-      it->second.last_call = m_call;
-      columns[i] = it->second.y.data();
+    Entry* entry = find(rows.key[i]);
+    if (entry && matches(*entry, rows, i, free_dofs)) {
+      entry->last_call = m_call;
+      columns[i] = entry->y.data();
       m_kept.push_back(rows.key[i]);
     } else {
       m_missing.push_back(i);
@@ -82,17 +95,18 @@ template <typename SolveMany>
 void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
                                    SolveMany& solve_many, std::vector<const double*>& columns) {
   const int solved = static_cast<int>(m_missing.size());
-  m_B.setZero(free_dofs, solved);
+  Eigen::Map<MatX> B = m_B.view(free_dofs, solved), X = m_X.view(free_dofs, solved);
+  B.setZero();
   for (int k = 0; k < solved; ++k) {
     const int i = m_missing[k];
     for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
-      if (const int f = free_index[rows.nodes[e]]; f >= 0) m_B.block<3, 1>(3 * f, k) += rows.jac[e];
+      if (const int f = free_index[rows.nodes[e]]; f >= 0) B.block<3, 1>(3 * f, k) += rows.jac[e];
   }
-  solve_many(m_B, m_X);
+  solve_many(B, X);
   std::sort(m_kept.begin(), m_kept.end());
   for (int k = 0; k < solved; ++k) {
     const int i = m_missing[k];
-    columns[i] = m_X.col(k).data();
+    columns[i] = X.col(k).data();
     // A key kept for another row of this call keeps its entry: columns[] points into it.
     if (!std::binary_search(m_kept.begin(), m_kept.end(), rows.key[i])) store(rows, i, columns[i], free_dofs);
   }

@@ -31,9 +31,14 @@ Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
   return element_center_deformation_gradient(model, e, gather_element_nodes(model, x, e));
 }
 
-// Per element, the worst violation (-inf without strain limits).
-std::vector<double> worst_per_element(const Model& model, const VecX& x) {
-  std::vector<double> worst(model.num_elements, -1e300);
+// Per element, the worst violation (-inf without strain limits), into kept storage (a warm
+// step allocates nothing); valid until the next call on this thread.
+const std::vector<double>& worst_per_element(const Model& model, const VecX& x) {
+  // Bound to a local reference: the parallel tasks below must see this thread's vector,
+  // not their own thread's (so for every thread_local of this file).
+  thread_local std::vector<double> storage;
+  std::vector<double>& worst = storage;
+  worst.assign(model.num_elements, -1e300);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (!is_limited(model, e)) return;
     StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
@@ -55,9 +60,16 @@ double overall(const Model& model, const std::vector<double>& worst) {
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows) {
   if (!model.has_strain_limits) return -1;
-  const std::vector<double> worst = worst_per_element(model, x);
-  // Kept constraints per tet, as bit masks over the constraint index k.
-  std::vector<std::pair<int, uint32_t>> kept;
+  const std::vector<double>& worst = worst_per_element(model, x);
+  // Kept constraints per tet, as bit masks over the constraint index k. Kept storage below.
+  thread_local std::vector<std::pair<int, uint32_t>> kept_storage;
+  thread_local std::vector<int> candidates_storage;
+  thread_local std::vector<StrainLimitRows> found_storage;
+  std::vector<std::pair<int, uint32_t>>& kept = kept_storage;
+  std::vector<int>& candidates = candidates_storage;
+  std::vector<StrainLimitRows>& found = found_storage;
+  kept.clear();
+  candidates.clear();
   for (uint64_t key : keep)
     if ((key >> 60) == uint64_t(RowKind::Strain)) {
       const int e = static_cast<int>((key >> 24) & 0xFFFFFFFFFull);
@@ -66,13 +78,12 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
       kept.back().second |= bit;
     }
   std::sort(kept.begin(), kept.end());
-  std::vector<int> candidates;
   for (int e = 0; e < model.num_elements; ++e) {
     const bool has_kept = std::binary_search(kept.begin(), kept.end(), std::make_pair(e, 0u),
                                              [](auto a, auto b) { return a.first < b.first; });
     if (is_limited(model, e) && (worst[e] > -margin || has_kept)) candidates.push_back(e);
   }
-  std::vector<StrainLimitRows> found(candidates.size());
+  found.resize(candidates.size());
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
     const int e = candidates[i];
     const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
@@ -105,7 +116,11 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
     StrainLimitRows wanted;
     std::array<int, kStrainLimitCount> table_row;
   };
-  std::vector<Tet> tets;
+  thread_local std::vector<Tet> tets_storage;  // kept storage, as blocks
+  thread_local std::vector<std::array<Mat12, kStrainLimitCount>> blocks_storage;
+  std::vector<Tet>& tets = tets_storage;
+  std::vector<std::array<Mat12, kStrainLimitCount>>& blocks = blocks_storage;
+  tets.clear();
   for (int i = 0; i < rows.size(); ++i) {
     if (rows.kind[i] != RowKind::Strain || rows.lambda[i] <= 0 || rows.curvature_block[i] >= 0) continue;
     const int e = rows.element[i];
@@ -114,7 +129,7 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
     tet.table_row[tet.wanted.count] = i;
     tet.wanted.row[tet.wanted.count++].index = static_cast<int>(rows.key[i] & 0xFFFFFF);
   }
-  std::vector<std::array<Mat12, kStrainLimitCount>> blocks(tets.size());
+  blocks.resize(tets.size());
   tbb::parallel_for(size_t(0), tets.size(), [&](size_t t) {
     const int e = tets[t].element;
     StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);

@@ -22,7 +22,7 @@ void TouchedInverse::grow(int nodes) {
 // X = H^-1 on the added nodes' DOFs: its rows at every touched node give G's new columns
 // and, by symmetry, its new rows. The new-new block is averaged with its transpose so that
 // G is exactly symmetric (round-off in the solves is not).
-void TouchedInverse::add_columns(const std::vector<int>& added, const MatX& X) {
+void TouchedInverse::add_columns(const std::vector<int>& added, const Eigen::Ref<const MatX>& X) {
   const int old = size();
   grow(old + static_cast<int>(added.size()));
   m_nodes.insert(m_nodes.end(), added.begin(), added.end());
@@ -35,8 +35,8 @@ void TouchedInverse::add_columns(const std::vector<int>& added, const MatX& X) {
   const int k_old = 3 * old;
   const int k_new = k - k_old;
   m_G.block(k_old, 0, k_new, k_old) = m_G.block(0, k_old, k_old, k_new).transpose();
-  const MatX corner = m_G.block(k_old, k_old, k_new, k_new);
-  m_G.block(k_old, k_old, k_new, k_new) = 0.5 * (corner + corner.transpose());
+  for (int c = k_old; c < k; ++c)
+    for (int r = c + 1; r < k; ++r) m_G(r, c) = m_G(c, r) = 0.5 * (m_G(r, c) + m_G(c, r));
 }
 
 }  // namespace sinew

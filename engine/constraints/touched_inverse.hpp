@@ -9,6 +9,7 @@
 // touched for the first time costs 3 solves.
 #include <vector>
 
+#include "engine/core/scratch_matrix.hpp"
 #include "engine/core/types.hpp"
 
 namespace sinew {
@@ -19,7 +20,8 @@ class TouchedInverse {
   void reset(int free_nodes);
 
   // Adds the free nodes of `nodes` (free indices, any order, repeats allowed) that have no
-  // columns yet; `solve_many(B, X)` must compute X = H^-1 B. Returns the columns solved.
+  // columns yet; `solve_many(B, X)` must compute X = H^-1 B (X given with B's size, a map
+  // onto kept storage). Returns the columns solved.
   template <typename SolveMany>
   int require(const std::vector<int>& nodes, SolveMany&& solve_many);
 
@@ -31,13 +33,13 @@ class TouchedInverse {
 
  private:
   void grow(int nodes);  // capacity for at least `nodes` touched nodes, keeping G
-  void add_columns(const std::vector<int>& added, const MatX& X);
+  void add_columns(const std::vector<int>& added, const Eigen::Ref<const MatX>& X);
 
   std::vector<int> m_local;  // per free node: local index or -1
   std::vector<int> m_nodes;  // local index -> free node
   MatX m_G;                  // capacity x capacity (3 DOFs per node); the leading block is valid
   std::vector<int> m_added;
-  MatX m_B, m_X;
+  ScratchMatrix m_B, m_X;
 };
 
 template <typename SolveMany>
@@ -51,10 +53,11 @@ int TouchedInverse::require(const std::vector<int>& nodes, SolveMany&& solve_man
   if (m_added.empty()) return 0;
   const int n = 3 * static_cast<int>(m_local.size());
   const int columns = 3 * static_cast<int>(m_added.size());
-  m_B.setZero(n, columns);
-  for (int k = 0; k < columns; ++k) m_B(3 * m_added[k / 3] + k % 3, k) = 1.0;
-  solve_many(m_B, m_X);
-  add_columns(m_added, m_X);
+  Eigen::Map<MatX> B = m_B.view(n, columns), X = m_X.view(n, columns);
+  B.setZero();
+  for (int k = 0; k < columns; ++k) B(3 * m_added[k / 3] + k % 3, k) = 1.0;
+  solve_many(B, X);
+  add_columns(m_added, X);
   return columns;
 }
 

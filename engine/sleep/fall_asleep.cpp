@@ -42,11 +42,15 @@ void update_sleep(const Model& model, const VecX& v0, State& state) {
   SleepState& sleep = state.sleep;
   const SolverDesc& cfg = model.solver;
   const int nb = static_cast<int>(model.bodies.size());
-  const std::vector<char> slept = sleep.asleep;  // during this step
+  // Kept storage: a warm step allocates nothing.
+  thread_local std::vector<char> slept, ready;
+  thread_local std::vector<int> parent;
+  thread_local std::vector<Aabb> bounds;
+  slept = sleep.asleep;  // during this step
 
   // Islands: bodies that share a row. A row that reaches a sleeper comes from an awake body
   // (sleepers get no rows of their own): that body touches it, so it wakes.
-  std::vector<int> parent(nb);
+  parent.resize(nb);
   std::iota(parent.begin(), parent.end(), 0);
   const RowTable& rows = state.rows;
   for (int i = 0; i < rows.size(); ++i)
@@ -66,8 +70,8 @@ void update_sleep(const Model& model, const VecX& v0, State& state) {
 
   // An island sleeps when all its bodies have been quiet long enough and nothing is about
   // to move any of them during the next step.
-  std::vector<char> ready(nb, 1);
-  std::vector<Aabb> bounds(nb);
+  ready.assign(nb, 1);
+  bounds.assign(nb, Aabb{});
   for (int b = 0; b < nb; ++b) {
     const int root = find(parent, b);
     if (sleep.asleep[b] || sleep.quiet_steps[b] < cfg.sleep_steps) {

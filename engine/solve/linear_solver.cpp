@@ -18,7 +18,8 @@ LinearSolver::SolveWorkspace::~SolveWorkspace() {
 LinearSolver::LinearSolver(const SolverDesc& desc)
     : m_use_cholmod(desc.linear != "pcg"),
       m_desc(desc),
-      m_workspaces(std::make_unique<tbb::enumerable_thread_specific<SolveWorkspace>>()) {
+      m_workspaces(std::make_unique<tbb::enumerable_thread_specific<SolveWorkspace>>()),
+      m_single(std::make_unique<SolveWorkspace>()) {
   m_pcg.setTolerance(desc.pcg_tolerance);
   m_pcg.setMaxIterations(desc.pcg_max_iterations);
 }
@@ -45,7 +46,19 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
 int LinearSolver::solve(const VecX& b, VecX& x) {
   ++m_solves;
   if (m_use_cholmod) {
-    x = m_cholmod.solve(b);
+    // cholmod_solve2 into kept buffers: no allocation once they have b's size.
+    cholmod_dense view{};
+    view.nrow = view.d = b.size();
+    view.ncol = 1;
+    view.nzmax = b.size();
+    view.x = const_cast<double*>(b.data());
+    view.xtype = CHOLMOD_REAL;
+    view.dtype = CHOLMOD_DOUBLE;
+    SolveWorkspace& ws = *m_single;
+    if (!cholmod_solve2(CHOLMOD_A, m_cholmod.factor(), &view, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
+      throw std::runtime_error("CHOLMOD solve failed (out of memory)");
+    x.resize(b.size());
+    x = Eigen::Map<const VecX>(static_cast<const double*>(ws.x->x), b.size());
     m_last_residual = 0;
     return 1;
   }
@@ -55,20 +68,20 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
   return static_cast<int>(m_pcg.iterations());
 }
 
-void LinearSolver::solve_many(const MatX& B, MatX& X) {
+void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X) {
   if (m_use_cholmod) {
     m_solves += B.cols();
-    X.resize(B.rows(), B.cols());
     cholmod_factor* L = m_cholmod.factor();
     const int n = static_cast<int>(B.rows());
     // Solves columns [first, first + width) with the calling thread's workspace.
     const auto solve_columns = [&](int first, int width) {
       SolveWorkspace& ws = m_workspaces->local();
       cholmod_dense b{};  // a view of B's columns: cholmod_solve2 only reads it
-      b.nrow = b.d = n;
+      b.nrow = n;
+      b.d = B.outerStride();
       b.ncol = width;
-      b.nzmax = static_cast<size_t>(n) * width;
-      b.x = const_cast<double*>(B.data() + static_cast<size_t>(first) * n);
+      b.nzmax = static_cast<size_t>(b.d) * width;
+      b.x = const_cast<double*>(B.data() + static_cast<size_t>(first) * B.outerStride());
       b.xtype = CHOLMOD_REAL;
       b.dtype = CHOLMOD_DOUBLE;
       if (!cholmod_solve2(CHOLMOD_A, L, &b, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
@@ -90,7 +103,6 @@ void LinearSolver::solve_many(const MatX& B, MatX& X) {
     });
     return;
   }
-  X.resize(B.rows(), B.cols());
   for (Eigen::Index c = 0; c < B.cols(); ++c) {
     VecX col = VecX::Zero(B.rows());
     solve(B.col(c), col);

@@ -11,6 +11,7 @@
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/core/types.hpp"
 #include "engine/scene/scene.hpp"
+#include "engine/solve/cholmod_memory_pool.hpp"
 
 namespace sinew {
 
@@ -23,11 +24,16 @@ class LinearSolver {
   bool factorize(const SparseMatrix& A);
   // Solves A x = b. PCG starts from the x passed in. Returns iterations (1 for CHOLMOD).
   int solve(const VecX& b, VecX& x);
-  // Solves A X = B column by column. CHOLMOD, simplicial factor: blocks of kSolveBlock
-  // columns solved in parallel, each with its thread's workspace, each block as wide
-  // whatever the thread count (X is bit-identical for any number of threads); supernodal
-  // factor: one call (BLAS-3) on the calling thread.
-  void solve_many(const MatX& B, MatX& X);
+  // Solves A X = B column by column, into X of B's size. CHOLMOD, simplicial factor: blocks
+  // of kSolveBlock columns solved in parallel, each with its thread's workspace, each block
+  // as wide whatever the thread count (X is bit-identical for any number of threads);
+  // supernodal factor: one call (BLAS-3) on the calling thread.
+  void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X);
+  // The same, resizing X.
+  void solve_many(const MatX& B, MatX& X) {
+    X.resize(B.rows(), B.cols());
+    solve_many(B, Eigen::Ref<MatX>(X));
+  }
   static constexpr int kSolveBlock = 16;
   void reset_pattern() { m_analyzed = false; }
   bool uses_cholmod() const { return m_use_cholmod; }
@@ -37,6 +43,7 @@ class LinearSolver {
   long solves() const { return m_solves; }
 
  private:
+  bool m_pool = (install_cholmod_memory_pool(), true);  // before any CHOLMOD call
   bool m_use_cholmod = true;
   bool m_analyzed = false;
   double m_last_residual = 0;
@@ -57,6 +64,7 @@ class LinearSolver {
   };
   Cholmod m_cholmod;
   std::unique_ptr<tbb::enumerable_thread_specific<SolveWorkspace>> m_workspaces;
+  std::unique_ptr<SolveWorkspace> m_single;  // solve(): one column, its buffers kept
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper,
                            Eigen::DiagonalPreconditioner<double>>
       m_pcg;

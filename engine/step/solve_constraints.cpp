@@ -66,8 +66,7 @@ void scatter_free(const Model& model, const VecX& free, VecX& full) {
 
 // Per row h / (its kind's SQP tolerance): PGS's residual (a velocity, w = J v) times it is
 // the change of C over the step as a fraction of what SQP accepts.
-VecX residual_weights(const SolverDesc& cfg, double h, const RowTable& rows) {
-  VecX weight(rows.size());
+void residual_weights(const SolverDesc& cfg, double h, const RowTable& rows, Eigen::Ref<VecX> weight) {
   for (int i = 0; i < rows.size(); ++i) {
     const RowKind kind = rows.kind[i];
     const double tolerance = kind == RowKind::Energy   ? cfg.sqp_tolerance
@@ -75,25 +74,21 @@ VecX residual_weights(const SolverDesc& cfg, double h, const RowTable& rows) {
                                                        : cfg.contact_tolerance;
     weight[i] = h / tolerance;
   }
-  return weight;
 }
 
-// J u over the rows' stencils (u: free velocities).
-VecX apply_jacobian(const Model& model, const RowTable& rows, const VecX& u) {
-  VecX out = VecX::Zero(rows.size());
+// out += J u over the rows' stencils (u: free velocities).
+void add_jacobian_times(const Model& model, const RowTable& rows, const VecX& u, Eigen::Ref<VecX> out) {
   for (int i = 0; i < rows.size(); ++i)
     for (int k = rows.begin[i]; k < rows.begin[i + 1]; ++k)
       if (const int f = model.free_index[rows.nodes[k]]; f >= 0) out[i] += rows.jac[k].dot(u.segment<3>(3 * f));
-  return out;
 }
 
-// J^T lambda on the free DOFs, lambda = rows.lambda.
-VecX apply_jacobian_transpose(const Model& model, const RowTable& rows) {
-  VecX out = VecX::Zero(3 * model.num_free);
+// out = J^T lambda on the free DOFs, lambda = rows.lambda.
+void apply_jacobian_transpose(const Model& model, const RowTable& rows, VecX& out) {
+  out.setZero(3 * model.num_free);
   for (int i = 0; i < rows.size(); ++i)
     for (int k = rows.begin[i]; k < rows.begin[i + 1]; ++k)
       if (const int f = model.free_index[rows.nodes[k]]; f >= 0) out.segment<3>(3 * f) += rows.lambda[i] * rows.jac[k];
-  return out;
 }
 
 // Whether h (v - v0) moves some node further than its body's contact margin.
@@ -118,7 +113,7 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s) {
     if (const int f = model.free_index[node]; f >= 0 && s.touched_inverse.local(f) < 0) touched.push_back(f);
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  const auto solve_many = [&](const MatX& B, MatX& X) { solver.solve_many(B, X); };
+  const auto solve_many = [&](const auto& B, auto& X) { solver.solve_many(B, X); };
   if (3 * static_cast<int>(touched.size()) > m) {
     const int solved = s.row_columns.columns(s.rows, model.free_index, 3 * model.num_free, solve_many,
                                              s.row_column_scratch);
@@ -178,11 +173,13 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   }
   const SolverDesc& cfg = model.solver;
   const double h = model.h;
-  const VecX x0 = s.x;
-  const VecX v_star = s.v_free;  // the Newton step of solve_velocity (or solve_newton's result)
-  VecX v_free = v_star;          // the SQP iterate v_k
+  StepScratch& sc = s.scratch;
+  const VecX& x0 = sc.x0 = s.x;
+  const VecX& v_star = sc.v_star = s.v_free;  // the Newton step of solve_velocity (or solve_newton's result)
+  VecX& v_free = sc.v_free = v_star;          // the SQP iterate v_k
 
-  std::vector<uint64_t> keep;
+  std::vector<uint64_t>& keep = sc.keep;
+  keep.clear();
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
   int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0;
@@ -198,7 +195,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       s.rows.clear();
       return 0.0;
     }
-    return build_rows(model, s.t + h, k, x0 + h * s.v, s.v, keep, s.attachments, s.rows, s.body_surfaces, profile);
+    sc.x_iterate = x0 + h * s.v;
+    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, s.body_surfaces, profile);
   };
   for (int k = 0;; ++k) {
     const double worst = rows_at_iterate(k);
@@ -223,7 +221,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     ++sqp;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
-    VecX v_base = k == 0 ? v_star : v_free;
+    VecX& v_base = sc.v_base = k == 0 ? v_star : v_free;
     {
       StageTimer timer(profile, Stage::SqpFactorize);
       // Stalled: the stale curvature converges too slowly; refactorise with the current one.
@@ -235,30 +233,38 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     StageTimer solve_timer(profile, Stage::SqpSolve);
     if (k > 0) {
-      VecX step = VecX::Zero(v_free.size());
-      solver.solve(s.rhs - s.system * v_free, step);
-      v_base += step;
+      sc.residual.noalias() = s.system * v_free;
+      sc.residual = s.rhs - sc.residual;
+      sc.step.setZero(v_free.size());
+      solver.solve(sc.residual, sc.step);
+      v_base += sc.step;
     }
-    VecX v_next = v_base;
+    VecX& v_next = sc.v_next = v_base;
     if (m > 0) {
       solved_columns += factor_delassus(model, solver, s);
       solve_timer.stop();
       {
         StageTimer pgs_timer(profile, Stage::Pgs);
         // C_k + h J (v - v_k) >= 0 with v = v_base + H^-1 J^T lambda.
-        const VecX c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + apply_jacobian(model, s.rows, v_base - v_free);
-        pgs += solve_pgs(s.delassus, c, residual_weights(cfg, h, s.rows), s.rows,
+        Eigen::Map<MatX> per_row = sc.per_row.view(m, 2);
+        sc.dv = v_base - v_free;
+        per_row.col(1).setZero();
+        add_jacobian_times(model, s.rows, sc.dv, per_row.col(1));
+        per_row.col(0) = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + per_row.col(1);
+        residual_weights(cfg, h, s.rows, per_row.col(1));
+        pgs += solve_pgs(s.delassus, per_row.col(0), per_row.col(1), s.rows,
                          IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
                    .iterations;
       }
       if (model.has_strain_limits) {
         StageTimer rows_timer(profile, Stage::Rows);
-        add_strain_limit_curvatures(model, x0 + h * s.v, s.rows);  // s.v: still the rows' point
+        add_strain_limit_curvatures(model, sc.x_iterate, s.rows);  // at the rows' point
       }
       StageTimer timer(profile, Stage::SqpSolve);
-      VecX correction = VecX::Zero(v_free.size());
-      solver.solve(apply_jacobian_transpose(model, s.rows), correction);
-      v_next += correction;
+      apply_jacobian_transpose(model, s.rows, sc.impulse);
+      sc.correction.setZero(v_free.size());
+      solver.solve(sc.impulse, sc.correction);
+      v_next += sc.correction;
     }
     // A worst violation that grows from one iteration to the next means the full steps
     // overshoot: on the paper 001 scenes they swing between two states of the same rows

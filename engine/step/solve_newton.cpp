@@ -102,8 +102,8 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
 // density sums terms of size ~(mu + lambda) |F|^2 with |F|^2 ~ 3 near rest, so a difference
 // carries an error of a few eps (mu + lambda) V_e. 32 eps sum_e (mu + lambda) 3 V_e bounds it
 // with room for moderate stretch. Below it the sign of a change of Phi means nothing.
-double energy_noise(const Model& model) {
-  std::vector<double> stiffness(model.bodies.size(), 0.0);
+double energy_noise(const Model& model, std::vector<double>& stiffness) {
+  stiffness.assign(model.bodies.size(), 0.0);
   for (size_t b = 0; b < model.bodies.size(); ++b) {
     const Body& body = model.bodies[b];
     if (!body.hyperelastic) continue;
@@ -149,22 +149,25 @@ double energy_noise(const Model& model) {
 bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const SolverDesc& cfg = model.solver;
   const double t_end = state.t + model.h;
-  const VecX x0 = state.x;
-  const SparseMatrix A0 = state.system;
-  const VecX b0 = state.rhs;
-  const double noise = energy_noise(model);
+  StepScratch& scratch = state.scratch;  // kept storage: a warm step allocates nothing
+  const VecX& x0 = scratch.newton_x0 = state.x;
+  const SparseMatrix& A0 = scratch.newton_A0 = state.system;
+  const VecX& b0 = scratch.newton_b0 = state.rhs;
+  const double noise = energy_noise(model, scratch.body_stiffness);
   long hyperelastic_elements = 0;  // evaluated per assembly and per line-search trial (StepWork)
   for (const std::vector<int>& color : model.element_colors)
     for (int e : color) hyperelastic_elements += is_hyperelastic(model, e);
-  VecX v, x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction;
-  std::vector<double> psi, psi_trial, force2;
+  VecX &v = scratch.newton_v, &x = scratch.newton_x, &dPsi = scratch.dPsi, &gradient = scratch.gradient;
+  VecX &quadratic_gradient = scratch.quadratic_gradient, &direction = scratch.direction, &trial = scratch.trial;
+  VecX &A0_direction = scratch.A0_direction;
+  std::vector<double> &psi = scratch.psi, &psi_trial = scratch.psi_trial, &force2 = scratch.force2;
   gather_free(model, state.v, v);
   state.v_start = v;
 
   int newton = 0, linear = 0;
   double first_norm = -1;
   bool ok = true, factorised = false, exact = false;
-  SparseMatrix H = A0;
+  SparseMatrix& H = scratch.newton_H = A0;
   // Newton's matrix is the Hessian of Phi alone. The previous step's constraint curvature
   // (which factorize_step_system would add) has no term in Phi's gradient: with it the
   // Newton steps were wrong and every step ran to the iteration cap once energy rows had
@@ -203,7 +206,8 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         break;
       }
     }
-    quadratic_gradient = A0 * v - b0;
+    quadratic_gradient.noalias() = A0 * v;
+    quadratic_gradient -= b0;
     gradient = quadratic_gradient + model.h * dPsi;
     const double norm = gradient.norm();
     if (!std::isfinite(norm)) {
@@ -238,8 +242,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     double slope = 0;
     if (usable) {
       StageTimer timer(state.profile, Stage::Solve);
-      direction = VecX::Zero(v.size());
-      linear += solver.solve(-gradient, direction);
+      direction.setZero(v.size());
+      scratch.negative_gradient = -gradient;
+      linear += solver.solve(scratch.negative_gradient, direction);
       slope = gradient.dot(direction);
       usable = slope < 0;
     }
@@ -262,7 +267,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // squared) falls below the round-off of the energies (energy_noise): the test would
     // then reject good steps by noise and stall Newton at a tiny step length. There the
     // full Newton step is taken (the quadratic model is exact to that precision).
-    A0_direction = A0 * direction;
+    A0_direction.noalias() = A0 * direction;
     const double linear_term = quadratic_gradient.dot(direction), curvature = direction.dot(A0_direction);
     auto change_at = [&](double a) {
       trial = v + a * direction;
@@ -289,7 +294,8 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   }
   // The quadratic model around v that solve_constraints continues from.
   if (ok) {
-    state.rhs = state.system * v - gradient;
+    state.rhs.noalias() = state.system * v;
+    state.rhs -= gradient;
     state.v_free = v;
     for (int n = 0; n < model.num_nodes; ++n) {
       const int f = model.free_index[n];

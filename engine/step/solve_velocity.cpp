@@ -56,15 +56,19 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     }
   }
   StageTimer timer(state.profile, Stage::Solve);
-  VecX v0(3 * model.num_free);
+  VecX& v0 = state.v_start;  // the start-of-step velocities on the free DOFs
+  v0.resize(3 * model.num_free);
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];
     if (fi >= 0) v0.segment<3>(3 * fi) = state.v.segment<3>(3 * n);
   }
-  VecX delta = VecX::Zero(v0.size());
-  const int iterations = solver.solve(state.rhs - state.system * v0, delta);
+  VecX& residual = state.scratch.residual;
+  VecX& delta = state.scratch.step;
+  residual.noalias() = state.system * v0;
+  residual = state.rhs - residual;
+  delta.setZero(v0.size());
+  const int iterations = solver.solve(residual, delta);
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += iterations;
-  state.v_start = v0;
   state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];

@@ -60,7 +60,7 @@ TouchedInverse touched_inverse(const Problem& p, const Eigen::LLT<MatX>& llt, st
   inverse.reset(p.nodes - 1);
   std::vector<int> free_nodes;
   for (const int n : p.rows.nodes) free_nodes.push_back(p.free_index[n]);
-  const auto solve = [&](const MatX& B, MatX& X) { X = llt.solve(B); };
+  const auto solve = [&](const auto& B, auto& X) { X = llt.solve(B); };
   const std::vector<int> first(free_nodes.begin(), free_nodes.begin() + free_nodes.size() / 2);
   CHECK(inverse.require(first, solve) > 0);
   inverse.require(free_nodes, solve);

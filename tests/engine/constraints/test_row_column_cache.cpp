@@ -49,7 +49,7 @@ struct Fixture {
     return J;
   }
   int fill(RowColumnCache& cache, std::vector<const double*>& columns) {
-    return cache.columns(rows, free_index, dofs(), [this](const MatX& B, MatX& X) {
+    return cache.columns(rows, free_index, dofs(), [this](const auto& B, auto& X) {
       solves += static_cast<int>(B.cols());
       X = llt.solve(B);
     }, columns);
@@ -144,7 +144,7 @@ TEST_CASE("row_column_cache: a new factorisation of the step system empties the 
   REQUIRE(factorize_step_system(world.model(), solver, state));
   std::vector<const double*> columns;
   const int dofs = 3 * world.model().num_free;
-  state.row_columns.columns(rows, world.model().free_index, dofs, [&](const MatX& B, MatX& X) { solver.solve_many(B, X); },
+  state.row_columns.columns(rows, world.model().free_index, dofs, [&](const auto& B, auto& X) { solver.solve_many(B, X); },
                             columns);
   REQUIRE(state.row_columns.size() == 1);
   REQUIRE(factorize_step_system(world.model(), solver, state));
