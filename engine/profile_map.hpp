@@ -3,7 +3,7 @@
 // it meets a name for the first time: clear() marks entries absent and keeps them, so a
 // step that reports the same names as the steps before it allocates nothing (the step is
 // allocation-free after warm-up, issue 7). Reads like the std::map it replaces: sorted
-// by name, present entries only, elements std::pair<const std::string, V>.
+// by name, present entries only, elements std::pair<std::string, V> (do not rename one).
 #include <iterator>
 #include <list>
 #include <stdexcept>
@@ -16,7 +16,7 @@ namespace sinew {
 template <typename V>
 class ProfileMap {
   struct Entry {
-    std::pair<const std::string, V> item;
+    std::pair<std::string, V> item;
     bool present = false;
   };
   using List = std::list<Entry>;
@@ -25,7 +25,7 @@ class ProfileMap {
   class Iterator {
    public:
     using iterator_category = std::forward_iterator_tag;
-    using value_type = std::pair<const std::string, V>;
+    using value_type = std::pair<std::string, V>;
     using difference_type = std::ptrdiff_t;
     using pointer = Item*;
     using reference = Item&;
@@ -48,8 +48,8 @@ class ProfileMap {
   };
 
  public:
-  using iterator = Iterator<typename List::iterator, std::pair<const std::string, V>>;
-  using const_iterator = Iterator<typename List::const_iterator, const std::pair<const std::string, V>>;
+  using iterator = Iterator<typename List::iterator, std::pair<std::string, V>>;
+  using const_iterator = Iterator<typename List::const_iterator, const std::pair<std::string, V>>;
 
   ProfileMap() = default;
   ProfileMap(std::initializer_list<std::pair<std::string, V>> items) {
@@ -72,6 +72,11 @@ class ProfileMap {
   const V& at(std::string_view name) const {
     if (const Entry* e = find_entry(name)) return e->item.second;
     throw std::out_of_range("ProfileMap::at: no entry " + std::string(name));
+  }
+  iterator find(std::string_view name) {
+    for (auto it = begin(); it != end(); ++it)
+      if (it->first == name) return it;
+    return end();
   }
   const_iterator find(std::string_view name) const {
     for (auto it = begin(); it != end(); ++it)

@@ -115,15 +115,29 @@ void representative_probes(const Body& body, const std::vector<Probe>& probes, u
   std::sort(out.begin(), out.end(), [](const Probe& a, const Probe& b) { return a.vertex < b.vertex; });
 }
 
+// Whether the vertex's embedding weighs some free node: a vertex held by fixed nodes alone
+// (the base of a column standing on the ground) gets no row, which could only be empty.
+bool moves_free_node(const Model& model, const Body& body, int vertex) {
+  const auto& cell = body.lattice.cells[body.embedding.cell[vertex]];
+  const auto& w = body.embedding.weights[vertex];
+  for (int n = 0; n < 8; ++n)
+    if (cell[n] >= 0 && w[n] != 0 && model.free_index[body.node_offset + cell[n]] >= 0) return true;
+  return false;
+}
+
 }  // namespace
 
 ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX& x, const VecX& v,
                                    const std::vector<uint64_t>& keep, RowTable& rows, ContactSearch search) {
   ContactRowsResult result;
   const double h = model.h;
-  // Kept storage: a warm step allocates nothing.
-  thread_local std::vector<int> candidates;
-  thread_local std::vector<Probe> probes, representatives;
+  // Kept storage (a warm step allocates nothing), bound to local references so that any
+  // parallel task sees this thread's vectors, not its own thread's.
+  thread_local std::vector<int> candidates_storage;
+  thread_local std::vector<Probe> probes_storage, representatives_storage;
+  std::vector<int>& candidates = candidates_storage;
+  std::vector<Probe>& probes = probes_storage;
+  std::vector<Probe>& representatives = representatives_storage;
   for (uint32_t k = 0; k < model.obstacles.size(); ++k) {
     const ObstacleDesc& ob = model.obstacles[k];
     const Vec3 origin = obstacle_position(ob, t_end);
@@ -155,6 +169,7 @@ ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX&
         const uint64_t key = contact_key(id, k);
         result.deepest = std::max(result.deepest, -probe.sdf.phi);
         if (probe.sdf.phi >= margin && !std::binary_search(keep.begin(), keep.end(), key)) continue;
+        if (!moves_free_node(model, body, probe.vertex)) continue;
         const int normal = rows.size();
         add_vertex_row(rows, RowKind::Contact, probe.sdf.phi, 0.0, 1e300, key, body, probe.vertex, probe.sdf.normal);
         if (ob.friction <= 0) continue;

@@ -17,7 +17,6 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
     m_begin.push_back(static_cast<int>(m_local.size()));
   }
   m_diagonal.resize(m);  // size() from here on
-  m_direct = false;
   const auto G = inverse.block();
   Eigen::Map<MatX> T = this->T();
   T.setZero();
@@ -72,7 +71,6 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
   symmetrize_W();
   for (int i = 0; i < m; ++i) m_diagonal[i] = W(i, i);
   m_k3 = 0;
-  m_direct = true;
   m_dense = true;
 }
 

@@ -38,7 +38,8 @@ class Delassus {
   void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c);
   double w(int i) const;
   void changed(int i, double delta);
-  // W itself (tests, and lcp_residual): formed from T whatever the form.
+  // W itself (tests, and lcp_residual): the stored W in the dense forms, formed from T in
+  // the factored one.
   MatX matrix() const;
 
  private:
@@ -52,7 +53,6 @@ class Delassus {
   void symmetrize_W();
 
   bool m_dense = false;
-  bool m_direct = false;              // built from Y (build_direct): no T
   int m_k3 = 0;                       // 3 x touched nodes: T's rows
   std::vector<int> m_begin, m_local;  // rows' stencils in touched-node positions
   std::vector<Vec3> m_jac;

@@ -52,6 +52,7 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
   for (int it = 0; it < max_iterations; ++it) {
     if (it % kRefresh == 0) W.start(lambda, c);
     for (int i = 0; i < m; ++i) {
+      if (!(W.diagonal(i) > 0)) continue;  // a row that moves no free DOF: nothing to solve
       double lo, hi;
       pgs_bounds(rows, lambda, i, lo, hi);
       const double updated = std::clamp(lambda[i] - W.w(i) / W.diagonal(i), lo, hi);
@@ -63,6 +64,7 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
     result.iterations = it + 1;
     result.residual = 0;
     for (int i = 0; i < m; ++i) {
+      if (!(W.diagonal(i) > 0)) continue;
       double lo, hi;
       pgs_bounds(rows, lambda, i, lo, hi);
       const double projected = std::clamp(lambda[i] - W.w(i) / W.diagonal(i), lo, hi);

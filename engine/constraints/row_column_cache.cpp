@@ -26,7 +26,7 @@ void RowColumnCache::reset() {
   m_index.clear();
 }
 
-void RowColumnCache::ensure_slots(int entries, int free_dofs) {
+void RowColumnCache::ensure_slots(int entries) {
   if (static_cast<int>(m_slots.size()) >= entries) return;
   m_index.reserve(entries);
   m_free_slots.reserve(entries);
@@ -35,11 +35,11 @@ void RowColumnCache::ensure_slots(int entries, int free_dofs) {
   while (static_cast<int>(m_slots.size()) < entries) {
     m_free_slots.push_back(static_cast<int>(m_slots.size()));
     m_slots.emplace_back();
-    // Room for the widest stencil (a body contact spans two hex cells) and the column, so
-    // that recycling the slot for any row allocates nothing.
+    // Room for the widest stencil (a body contact spans two hex cells), so that recycling
+    // the slot for any row allocates nothing. Its column is sized when the slot is first
+    // used: 2 m full columns up front would double the cache's memory on large lattices.
     m_slots.back().nodes.reserve(kWidestStencil);
     m_slots.back().jac.reserve(kWidestStencil);
-    m_slots.back().y.resize(free_dofs);
   }
 }
 
@@ -47,7 +47,7 @@ void RowColumnCache::store(const RowTable& rows, int i, const double* y, int fre
   const uint64_t key = rows.key[i];
   Entry* entry = find(key);
   if (!entry) {
-    ensure_slots(static_cast<int>(m_index.size()) + 1, free_dofs);
+    ensure_slots(static_cast<int>(m_index.size()) + 1);
     const int slot = m_free_slots.back();
     m_free_slots.pop_back();
     m_index.insert(std::lower_bound(m_index.begin(), m_index.end(), std::make_pair(key, -1)), {key, slot});

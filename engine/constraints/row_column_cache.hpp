@@ -44,9 +44,10 @@ class RowColumnCache {
   void evict(int rows);
   void store(const RowTable& rows, int i, const double* y, int free_dofs);
   // Free slots enough for `entries` entries in all. After each call at most its rows stay
-  // (evict), so a call of m rows holds at most m_before + m: with 2 m slots ready the
-  // cache allocates only when the row count exceeds every earlier call's.
-  void ensure_slots(int entries, int free_dofs);
+  // (evict), so a call of m rows holds at most m_before + m: with 2 m slots ready, and each
+  // slot's column kept once used, the cache allocates only when it holds more entries at
+  // once than ever before.
+  void ensure_slots(int entries);
   // Solves the rows of m_missing in one call and stores their columns.
   template <typename SolveMany>
   void solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany& solve_many,
@@ -71,7 +72,7 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
                             SolveMany&& solve_many, std::vector<const double*>& columns) {
   const int m = rows.size();
   ++m_call;
-  ensure_slots(2 * m, free_dofs);
+  ensure_slots(2 * m);
   columns.assign(m, nullptr);
   m_missing.clear();
   m_kept.clear();

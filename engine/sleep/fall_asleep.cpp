@@ -42,10 +42,15 @@ void update_sleep(const Model& model, const VecX& v0, State& state) {
   SleepState& sleep = state.sleep;
   const SolverDesc& cfg = model.solver;
   const int nb = static_cast<int>(model.bodies.size());
-  // Kept storage: a warm step allocates nothing.
-  thread_local std::vector<char> slept, ready;
-  thread_local std::vector<int> parent;
-  thread_local std::vector<Aabb> bounds;
+  // Kept storage (a warm step allocates nothing), bound to local references as in the row
+  // builders.
+  thread_local std::vector<char> slept_storage, ready_storage;
+  thread_local std::vector<int> parent_storage;
+  thread_local std::vector<Aabb> bounds_storage;
+  std::vector<char>& slept = slept_storage;
+  std::vector<char>& ready = ready_storage;
+  std::vector<int>& parent = parent_storage;
+  std::vector<Aabb>& bounds = bounds_storage;
   slept = sleep.asleep;  // during this step
 
   // Islands: bodies that share a row. A row that reaches a sleeper comes from an awake body

@@ -3,6 +3,7 @@
 #include <SuiteSparse_config.h>
 
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
@@ -12,23 +13,27 @@ namespace sinew {
 namespace {
 
 // Each block starts with a header (padded to 32 bytes, keeping the payload as aligned as
-// malloc's) holding a tag and the block's size class.
-constexpr uint64_t kTag = 0x73696e6577706f6fULL;  // marks a pool block
+// malloc's) holding a tag and the block's size class. Blocks above kLargestClass bytes
+// (a big supernodal factor) are malloc'd at their size and freed at once: rounding them up
+// to a power of two could double them, and keeping them would hold their peak for good.
+constexpr uint64_t kTag = 0x73696e6577706f6fULL;  // marks a pool block (checked in debug builds)
 constexpr std::size_t kHeader = 32;
-constexpr int kClasses = 48;  // payload capacity 2^c bytes
+constexpr int kLargestClass = 26;  // 64 MiB
+constexpr int kDirect = -1;        // size_class of a block not kept
 
 struct Header {
   uint64_t tag;
-  int size_class;
-  Header* next;  // in a free list
+  int size_class;  // payload capacity 2^size_class bytes, or kDirect
+  std::size_t bytes;  // payload size of a kDirect block
+  Header* next;    // in a free list
 };
 static_assert(sizeof(Header) <= kHeader);
 
 // Free blocks per class as intrusive lists through their headers: freeing never allocates.
 struct Pool {
   std::mutex mutex;
-  std::array<Header*, kClasses> free{};
-  std::array<long, kClasses> count{};
+  std::array<Header*, kLargestClass + 1> free{};
+  std::array<long, kLargestClass + 1> count{};
 };
 
 Pool& pool() {
@@ -38,17 +43,26 @@ Pool& pool() {
 
 int size_class(std::size_t bytes) {
   int c = 4;
-  while ((std::size_t{1} << c) < bytes) ++c;
-  return c;
+  while (c <= kLargestClass && (std::size_t{1} << c) < bytes) ++c;
+  return c <= kLargestClass ? c : kDirect;
 }
 
-Header* header_of(void* payload) { return reinterpret_cast<Header*>(static_cast<char*>(payload) - kHeader); }
+// Every block CHOLMOD frees is one of the pool's: it is installed before any SuiteSparse
+// call (install_cholmod_memory_pool), so the header is always there to read.
+Header* header_of(void* payload) {
+  Header* h = reinterpret_cast<Header*>(static_cast<char*>(payload) - kHeader);
+  assert(h->tag == kTag && "a block not from the CHOLMOD pool");
+  return h;
+}
+
+std::size_t capacity_of(const Header* h) {
+  return h->size_class == kDirect ? h->bytes : std::size_t{1} << h->size_class;
+}
 
 void* pool_malloc(std::size_t bytes) {
   const int c = size_class(bytes == 0 ? 1 : bytes);
-  if (c >= kClasses) return nullptr;
   void* raw = nullptr;
-  {
+  if (c != kDirect) {
     std::lock_guard<std::mutex> lock(pool().mutex);
     Header*& head = pool().free[c];
     if (head) {
@@ -58,11 +72,12 @@ void* pool_malloc(std::size_t bytes) {
     }
   }
   if (!raw) {
-    raw = std::malloc(kHeader + (std::size_t{1} << c));
+    raw = std::malloc(kHeader + (c == kDirect ? bytes : std::size_t{1} << c));
     if (!raw) return nullptr;
     Header* h = static_cast<Header*>(raw);
     h->tag = kTag;
     h->size_class = c;
+    h->bytes = bytes;
   }
   return static_cast<char*>(raw) + kHeader;
 }
@@ -70,10 +85,8 @@ void* pool_malloc(std::size_t bytes) {
 void pool_free(void* payload) {
   if (!payload) return;
   Header* h = header_of(payload);
-  // Blocks from before the pool have no header: their 32 bytes before the payload are
-  // malloc's own bookkeeping, which never holds the tag at a valid class.
-  if (h->tag != kTag || h->size_class < 4 || h->size_class >= kClasses) {
-    std::free(payload);
+  if (h->size_class == kDirect) {
+    std::free(h);
     return;
   }
   std::lock_guard<std::mutex> lock(pool().mutex);
@@ -92,9 +105,7 @@ void* pool_calloc(std::size_t count, std::size_t size) {
 
 void* pool_realloc(void* payload, std::size_t bytes) {
   if (!payload) return pool_malloc(bytes);
-  Header* h = header_of(payload);
-  if (h->tag != kTag) return std::realloc(payload, bytes);
-  const std::size_t capacity = std::size_t{1} << h->size_class;
+  const std::size_t capacity = capacity_of(header_of(payload));
   if (bytes <= capacity) return payload;
   void* grown = pool_malloc(bytes);
   if (!grown) return nullptr;
@@ -102,6 +113,10 @@ void* pool_realloc(void* payload, std::size_t bytes) {
   pool_free(payload);
   return grown;
 }
+
+// Installed before main, so that not even a CHOLMOD call made before the first
+// LinearSolver allocates outside the pool.
+const bool installed_at_start = (install_cholmod_memory_pool(), true);
 
 }  // namespace
 
@@ -118,7 +133,7 @@ void install_cholmod_memory_pool() {
 CholmodPoolStats cholmod_memory_pool_stats() {
   CholmodPoolStats stats;
   std::lock_guard<std::mutex> lock(pool().mutex);
-  for (int c = 0; c < kClasses; ++c) {
+  for (int c = 0; c <= kLargestClass; ++c) {
     stats.free_blocks += pool().count[c];
     stats.free_bytes += pool().count[c] << c;
   }

@@ -3,8 +3,9 @@
 // factorisation allocates and frees the same blocks every time (permuted copies of A, the
 // factor's workspace): with the pool, a step that refactorises allocates nothing from the
 // system once the pool holds one block of each size (the step is allocation-free after
-// warm-up, issue 7). Blocks come in power-of-two sizes; a block not from the pool (made
-// before the pool was installed) is handed back to the C library.
+// warm-up, issue 7). Blocks come in power-of-two sizes up to 64 MiB; larger ones are
+// allocated at their size and freed at once. Installed before main: every block CHOLMOD
+// frees must come from the pool.
 namespace sinew {
 
 // Routes SuiteSparse's allocator (SuiteSparse_config) through the pool; idempotent, thread

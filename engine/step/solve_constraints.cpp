@@ -183,10 +183,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
   int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0;
-  // Moves are h |dv|_inf of the last correction; the stall test judges the full (undamped)
-  // correction, else every half step (0.5 of the last) would look stalled.
-  double last_move = 1e300, last_full_move = 1e300, previous_full_move = 1e300, previous_worst = 1e300;
-  double step_fraction = 1;
+  // Moves are h |dv|_inf of the correction taken (damped or not): with a constant step
+  // fraction their ratio is that of the full corrections, which the stall test judges.
+  double last_move = 1e300, previous_move = 1e300, previous_worst = 1e300, step_fraction = 1;
   int halvings = 0;
   bool restored = false;
   const auto rows_at_iterate = [&](int k) {
@@ -225,7 +224,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     {
       StageTimer timer(profile, Stage::SqpFactorize);
       // Stalled: the stale curvature converges too slowly; refactorise with the current one.
-      if (k >= 2 && last_full_move > 0.5 * previous_full_move) {
+      if (k >= 2 && last_move > 0.5 * previous_move) {
         if (!factorize_step_system(model, solver, s)) break;
         s.factor_exact = !s.factor_curved;
         ++refactorisations;
@@ -282,10 +281,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       restored = true;
     }
     previous_worst = worst;
-    previous_full_move = last_full_move;
-    last_full_move = h * (v_next - v_free).lpNorm<Eigen::Infinity>();
-    last_move = step_fraction * last_full_move;
     v_next = v_free + step_fraction * (v_next - v_free);
+    previous_move = last_move;
+    last_move = h * (v_next - v_free).lpNorm<Eigen::Infinity>();
     v_free = v_next;
     scatter_free(model, v_free, s.v);
     update_curvature(model, s);

@@ -7,7 +7,8 @@
 // the scenes' sizes stay within what their warm-up saw.
 //
 // Its own program: it replaces malloc and friends with counting wrappers over glibc's, so
-// that Eigen's, the standard library's, Embree's and TBB's allocations all count. Not in
+// that Eigen's, the standard library's and Embree's allocations count. TBB's own allocator
+// (libtbbmalloc, through mmap) is not seen: TBB's internal structures are not counted. Not in
 // the sanitizer build (ASan owns malloc there). Known exception, counted apart: GNU
 // OpenMP's teams inside CHOLMOD's supernodal factorisation (note() below).
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN

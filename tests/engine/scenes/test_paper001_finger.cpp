@@ -50,14 +50,16 @@ TEST_CASE("paper 001 fig. 3: the anisotropic finger resists a side press far mor
   CHECK(aniso_side / aniso_flat < 0.25 * (iso_side / iso_flat));
 }
 
-TEST_CASE("paper 001 fig. 3: pressed on its tip, the finger shortens no further than its e1 limit") {
-  // Along its length e1 the anisotropic limits allow 5 %, the isotropic ones 25 % (each plus
-  // the SQP tolerance); both runs must also end every step within that tolerance.
+TEST_CASE("paper 001 fig. 3: pressed on its tip, the anisotropic finger shortens far less than the isotropic one") {
+  // Along its length e1 the anisotropic limits hold 0.95-1.05, the isotropic ones 0.75-1.25;
+  // both runs must end every step within the SQP tolerance (compression() checks). The
+  // hyperbolic limits bound |F e1| only through the principal stretches (with two axes at
+  // 45 degrees to e1 a 5.9 % shortening meets them all), so no exact bound on the
+  // shortening follows; the claim checked is the paper's ordering, with the figures printed.
   const int frames = 60;
   const double aniso_tip = compression("tip", "anisotropic", Vec3::UnitX(), frames);
   const double iso_tip = compression("tip", "isotropic", Vec3::UnitX(), frames);
   MESSAGE("largest compression along the press: anisotropic tip " << aniso_tip << ", isotropic tip " << iso_tip);
-  CHECK(aniso_tip <= 0.05 + 1e-3);
-  CHECK(iso_tip <= 0.25 + 1e-3);
   CHECK(aniso_tip > 0);
+  CHECK(aniso_tip < 0.5 * iso_tip);
 }
