@@ -17,13 +17,13 @@
 
 namespace sinew {
 
-// Vectors of the step (World, solve_velocity, solve_constraints), kept across steps so that a
-// warm step allocates nothing: the VecX are 3 x free nodes or 3 x nodes, sizes that do not
-// change.
+// Vectors of the step (World, solve_velocity, solve_newton, solve_constraints), kept across
+// steps so that a warm step allocates nothing: the VecX are 3 x free nodes or 3 x nodes,
+// sizes that do not change.
 struct StepScratch {
   VecX step_x0, step_v0, attempt_x0, attempt_v0;  // World: states to roll back to
-  VecX x0, x_iterate, v_star, v_free, v_base, v_next, dv, residual, step, correction, impulse;
-  ScratchMatrix per_row;  // m x 2: the LCP's c and PGS's residual weights
+  VecX x_iterate, v_free, v_base, v_next, dv, residual, step, correction, impulse;
+  ScratchMatrix per_row;  // m x 3: the LCP's c, J (v_base - v_k) and PGS's residual weights
   std::vector<uint64_t> keep;
   // solve_newton's
   SparseMatrix newton_A0, newton_H;

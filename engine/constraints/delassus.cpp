@@ -35,13 +35,7 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
   }
   m_dense = false;
   if (m <= m_k3) {
-    Eigen::Map<MatX> W = this->W();
-    for (int j = 0; j < m; ++j)
-      for (int i = 0; i < m; ++i) {
-        double s = 0;
-        for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(T.col(j).segment<3>(3 * m_local[e]));
-        W(i, j) = s;
-      }
+    form_W_from_T(W());
     symmetrize_W();
     m_dense = true;
   }
@@ -74,6 +68,16 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
   m_dense = true;
 }
 
+void Delassus::form_W_from_T(Eigen::Ref<MatX> W) const {
+  const Eigen::Map<MatX> T = this->T();
+  for (int j = 0; j < size(); ++j)
+    for (int i = 0; i < size(); ++i) {
+      double s = 0;
+      for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(T.col(j).segment<3>(3 * m_local[e]));
+      W(i, j) = s;
+    }
+}
+
 void Delassus::symmetrize_W() {
   Eigen::Map<MatX> W = this->W();
   for (int j = 0; j < size(); ++j)
@@ -82,15 +86,8 @@ void Delassus::symmetrize_W() {
 
 MatX Delassus::matrix() const {
   if (m_dense) return W();
-  const int m = size();
-  const Eigen::Map<MatX> T = this->T();
-  MatX W(m, m);
-  for (int j = 0; j < m; ++j)
-    for (int i = 0; i < m; ++i) {
-      double s = 0;
-      for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(T.col(j).segment<3>(3 * m_local[e]));
-      W(i, j) = s;
-    }
+  MatX W(size(), size());
+  form_W_from_T(W);
   return 0.5 * (W + W.transpose());
 }
 

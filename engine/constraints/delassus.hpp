@@ -51,6 +51,8 @@ class Delassus {
   // W_ij = W_ji = (W_ij + W_ji) / 2: symmetric in exact arithmetic, and PGS's column
   // updates assume it.
   void symmetrize_W();
+  // W = Jc T, unsymmetrised (its (i, j) entry over row i's stencil).
+  void form_W_from_T(Eigen::Ref<MatX> W) const;
 
   bool m_dense = false;
   int m_k3 = 0;                       // 3 x touched nodes: T's rows

@@ -27,6 +27,13 @@ bool is_limited(const Model& model, int e) {
   return model.element_type[e] == ElementType::Tet4 && model.bodies[model.element_body[e]].strain_limit.enabled;
 }
 
+// The limits of tet e: its body's, in the tet's material frame.
+StrainLimitSpec tet_spec(const Model& model, int e) {
+  StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
+  spec.frame = model.element_strain_frame[e];
+  return spec;
+}
+
 Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
   return element_center_deformation_gradient(model, e, gather_element_nodes(model, x, e));
 }
@@ -41,8 +48,7 @@ const std::vector<double>& worst_per_element(const Model& model, const VecX& x) 
   worst.assign(model.num_elements, -1e300);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (!is_limited(model, e)) return;
-    StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
-    spec.frame = model.element_strain_frame[e];
+    const StrainLimitSpec spec = tet_spec(model, e);
     worst[e] = worst_strain_violation(spec, tet_deformation_gradient(model, x, e));
   });
   return worst;
@@ -89,8 +95,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
                                      [](auto a, auto b) { return a.first < b.first; });
     const uint32_t mask = (it != kept.end() && it->first == e) ? it->second : 0u;
-    StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
-    spec.frame = model.element_strain_frame[e];
+    const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
     const Mat3 F = tet_deformation_gradient(model, x, e);
     evaluate_strain_limit(spec, F, dN_dX, margin, mask, found[i]);
@@ -132,8 +137,7 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
   blocks.resize(tets.size());
   tbb::parallel_for(size_t(0), tets.size(), [&](size_t t) {
     const int e = tets[t].element;
-    StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
-    spec.frame = model.element_strain_frame[e];
+    const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
     compute_strain_limit_curvatures(spec, tet_deformation_gradient(model, x, e), dN_dX, tets[t].wanted, blocks[t]);
   });

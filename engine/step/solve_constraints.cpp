@@ -174,9 +174,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const SolverDesc& cfg = model.solver;
   const double h = model.h;
   StepScratch& sc = s.scratch;
-  const VecX& x0 = sc.x0 = s.x;
-  const VecX& v_star = sc.v_star = s.v_free;  // the Newton step of solve_velocity (or solve_newton's result)
-  VecX& v_free = sc.v_free = v_star;          // the SQP iterate v_k
+  const VecX& x0 = s.x;           // unchanged here (integrate_positions comes after)
+  const VecX& v_star = s.v_free;  // the Newton step of solve_velocity (or solve_newton's result);
+                                  // written only once SQP is done
+  VecX& v_free = sc.v_free = v_star;  // the SQP iterate v_k
 
   std::vector<uint64_t>& keep = sc.keep;
   keep.clear();
@@ -245,13 +246,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       {
         StageTimer pgs_timer(profile, Stage::Pgs);
         // C_k + h J (v - v_k) >= 0 with v = v_base + H^-1 J^T lambda.
-        Eigen::Map<MatX> per_row = sc.per_row.view(m, 2);
+        Eigen::Map<MatX> per_row = sc.per_row.view(m, 3);  // c, J (v_base - v_k), weights
+        auto c = per_row.col(0), jdv = per_row.col(1), weights = per_row.col(2);
         sc.dv = v_base - v_free;
-        per_row.col(1).setZero();
-        add_jacobian_times(model, s.rows, sc.dv, per_row.col(1));
-        per_row.col(0) = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + per_row.col(1);
-        residual_weights(cfg, h, s.rows, per_row.col(1));
-        pgs += solve_pgs(s.delassus, per_row.col(0), per_row.col(1), s.rows,
+        jdv.setZero();
+        add_jacobian_times(model, s.rows, sc.dv, jdv);
+        c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + jdv;
+        residual_weights(cfg, h, s.rows, weights);
+        pgs += solve_pgs(s.delassus, c, weights, s.rows,
                          IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
                    .iterations;
       }
