@@ -1,6 +1,7 @@
 #include "engine/solve/linear_solver.hpp"
 
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <stdexcept>
 
@@ -18,7 +19,7 @@ LinearSolver::SolveWorkspace::~SolveWorkspace() {
 LinearSolver::LinearSolver(const SolverDesc& desc)
     : m_use_cholmod(desc.linear != "pcg"),
       m_desc(desc),
-      m_workspaces(std::make_unique<tbb::enumerable_thread_specific<SolveWorkspace>>()),
+      m_wide(std::make_unique<SolveWorkspace>()),
       m_single(std::make_unique<SolveWorkspace>()) {
   m_pcg.setTolerance(desc.pcg_tolerance);
   m_pcg.setMaxIterations(desc.pcg_max_iterations);
@@ -68,38 +69,68 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
   return static_cast<int>(m_pcg.iterations());
 }
 
+void LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride) {
+  cholmod_dense b{};  // a view of kSolveBlock columns: cholmod_solve2 only reads it
+  b.nrow = ws.rows;
+  b.d = stride;
+  b.ncol = kSolveBlock;
+  b.nzmax = static_cast<size_t>(stride) * kSolveBlock;
+  b.x = const_cast<double*>(columns);
+  b.xtype = CHOLMOD_REAL;
+  b.dtype = CHOLMOD_DOUBLE;
+  if (!cholmod_solve2(CHOLMOD_A, m_cholmod.factor(), &b, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
+    throw std::runtime_error("CHOLMOD solve failed (out of memory)");
+}
+
+void LinearSolver::prepare_block_workspaces(int rows) {
+  const size_t slots = static_cast<size_t>(tbb::this_task_arena::max_concurrency());
+  while (m_block_workspaces.size() < slots) m_block_workspaces.push_back(std::make_unique<SolveWorkspace>());
+  for (const auto& ws : m_block_workspaces) {
+    if (ws->rows == rows) continue;
+    ws->rows = rows;
+    ws->padded.setZero(rows, kSolveBlock);
+    solve_block(*ws, ws->padded.data(), rows);  // sizes CHOLMOD's buffers once
+  }
+}
+
 void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X) {
   if (m_use_cholmod) {
     m_solves += B.cols();
     cholmod_factor* L = m_cholmod.factor();
     const int n = static_cast<int>(B.rows());
-    // Solves columns [first, first + width) with the calling thread's workspace.
-    const auto solve_columns = [&](int first, int width) {
-      SolveWorkspace& ws = m_workspaces->local();
-      cholmod_dense b{};  // a view of B's columns: cholmod_solve2 only reads it
-      b.nrow = n;
-      b.d = B.outerStride();
-      b.ncol = width;
-      b.nzmax = static_cast<size_t>(b.d) * width;
-      b.x = const_cast<double*>(B.data() + static_cast<size_t>(first) * B.outerStride());
-      b.xtype = CHOLMOD_REAL;
-      b.dtype = CHOLMOD_DOUBLE;
-      if (!cholmod_solve2(CHOLMOD_A, L, &b, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
-        throw std::runtime_error("CHOLMOD solve failed (out of memory)");
-      X.middleCols(first, width) = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, width);
-    };
     if (B.cols() == 0) return;
     // A supernodal solve calls BLAS, and Debian's serial OpenBLAS is not safe to call from
     // two threads at once (wrong results, measured): one call with every column, which
     // BLAS-3 handles best anyway. A simplicial solve calls no BLAS: blocks in parallel.
     if (L->is_super) {
-      solve_columns(0, static_cast<int>(B.cols()));
+      cholmod_dense b{};
+      b.nrow = n;
+      b.d = B.outerStride();
+      b.ncol = B.cols();
+      b.nzmax = static_cast<size_t>(b.d) * B.cols();
+      b.x = const_cast<double*>(B.data());
+      b.xtype = CHOLMOD_REAL;
+      b.dtype = CHOLMOD_DOUBLE;
+      SolveWorkspace& ws = *m_wide;
+      if (!cholmod_solve2(CHOLMOD_A, L, &b, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
+        throw std::runtime_error("CHOLMOD solve failed (out of memory)");
+      X = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, B.cols());
       return;
     }
+    prepare_block_workspaces(n);
     const int blocks = static_cast<int>((B.cols() + kSolveBlock - 1) / kSolveBlock);
     tbb::parallel_for(0, blocks, [&](int block) {
+      SolveWorkspace& ws = *m_block_workspaces[tbb::this_task_arena::current_thread_index()];
       const int first = block * kSolveBlock;
-      solve_columns(first, std::min<int>(kSolveBlock, static_cast<int>(B.cols()) - first));
+      const int width = std::min<int>(kSolveBlock, static_cast<int>(B.cols()) - first);
+      if (width == kSolveBlock) {
+        solve_block(ws, B.data() + static_cast<size_t>(first) * B.outerStride(), static_cast<int>(B.outerStride()));
+      } else {
+        ws.padded.leftCols(width) = B.middleCols(first, width);
+        ws.padded.rightCols(kSolveBlock - width).setZero();
+        solve_block(ws, ws.padded.data(), n);
+      }
+      X.middleCols(first, width) = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, kSolveBlock).leftCols(width);
     });
     return;
   }
