@@ -86,7 +86,7 @@ Mat3 element_center_deformation_gradient(const Model& model, int e, const Elemen
 ElementQuadrature element_quadrature(const Model& model, int e) {
   if (model.element_type[e] == ElementType::Hex8) {
     const Hex8Reference& ref = hex_ref(model, e);
-    return {8, ref.dN_dX.data(), ref.det_dXds};
+    return {8, ref.dN_dX.data(), ref.det_dXds, model.bodies[model.element_body[e]].material.mean_dilatation};
   }
   const Tet4Reference& ref = tet_ref(model, e);
   return {1, &model.tet_gradients[model.element_reference[e]], ref.volume};

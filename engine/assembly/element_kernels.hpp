@@ -38,6 +38,9 @@ struct ElementQuadrature {
   int points = 0;
   const Mat83* dN_dX = nullptr;  // `points` matrices
   double weight = 0;             // the same for every point
+  // The volume term at the element's mean J (material "volume_term": "mean_dilatation",
+  // hex8 only): mean_dilatation_element.hpp.
+  bool mean_dilatation = false;
 };
 ElementQuadrature element_quadrature(const Model& model, int e);
 

@@ -2,6 +2,8 @@
 
 #include <limits>
 
+#include "engine/assembly/mean_dilatation_element.hpp"
+
 namespace sinew {
 namespace {
 
@@ -10,6 +12,8 @@ Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes) {
   for (int a = 0; a < nodes.count; ++a) F += nodes.x[a] * dN_dX.row(a);
   return F;
 }
+
+}  // namespace
 
 // hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm, where H_jm is the 3x3 block of H that
 // couples column j of F with column m (vec(F) is column-major). Works on B's non-zero
@@ -29,10 +33,10 @@ void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat24& h
   }
 }
 
-}  // namespace
-
 double hyperelastic_element_energy(const Material& material, const ElementQuadrature& quad,
                                    const ElementNodes& nodes) {
+  if (quad.mean_dilatation)  // build_model admits it only for invariant materials
+    return mean_dilatation_element_energy(static_cast<const InvariantMaterial&>(material), quad, nodes);
   double energy = 0;
   for (int q = 0; q < quad.points; ++q) {
     const Mat3 F = deformation_gradient(quad.dN_dX[q], nodes);
@@ -44,6 +48,9 @@ double hyperelastic_element_energy(const Material& material, const ElementQuadra
 
 double hyperelastic_element_derivatives(const Material& material, const ElementQuadrature& quad,
                                         const ElementNodes& nodes, Vec24& gradient, Mat24* hessian) {
+  if (quad.mean_dilatation)
+    return mean_dilatation_element_derivatives(static_cast<const InvariantMaterial&>(material), quad, nodes,
+                                               false, gradient, hessian);
   double energy = 0;
   gradient.setZero();
   if (hessian) hessian->setZero();

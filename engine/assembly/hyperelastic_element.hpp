@@ -6,9 +6,14 @@
 //   d2Psi_e/dx_a,k dx_b,l = sum_q w_q sum_{j,m} H_(k+3j),(l+3m) dN_a,j dN_b,m
 // with vec(F) column-major (engine/materials/material.hpp), so dvec(F)/dx = B with
 // B(i + 3j, 3a + i) = dN_a,j. Results are padded to 8 nodes like element_kernels.hpp.
+// A quadrature with mean_dilatation set goes to mean_dilatation_element.hpp instead.
 #include "engine/assembly/element_kernels.hpp"
 
 namespace sinew {
+
+// hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm over the first n nodes: w B^T H B for one
+// point, without forming B.
+void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat24& hessian);
 
 // +infinity when the material is undefined at some point (e.g. neo_hookean with J <= 0).
 double hyperelastic_element_energy(const Material& material, const ElementQuadrature& quad,

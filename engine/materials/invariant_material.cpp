@@ -47,8 +47,9 @@ Mat3 InvariantMaterial::pk1(const Mat3& F) const {
   return 2 * t.f1 * F + t.g1 * cofactor_matrix(F);
 }
 
-Mat9 InvariantMaterial::hessian(const Mat3& F) const {
-  const InvariantTerms t = terms_at(*this, F);
+Mat9 InvariantMaterial::hessian(const Mat3& F) const { return invariant_hessian(F, terms_at(*this, F)); }
+
+Mat9 invariant_hessian(const Mat3& F, const InvariantTerms& t) {
   const Vec9 f = vec9(F);
   const Vec9 c = vec9(cofactor_matrix(F));
   Mat9 H = 4 * t.f2 * f * f.transpose() + t.g2 * c * c.transpose() + t.g1 * cofactor_hessian(F);
@@ -61,7 +62,10 @@ Mat9 InvariantMaterial::projected_hessian(const Mat3& F) const {
 }
 
 SvdEigensystem InvariantMaterial::eigensystem(const Mat3& F) const {
-  const InvariantTerms t = terms_at(*this, F);
+  return invariant_eigensystem(F, terms_at(*this, F));
+}
+
+SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t) {
   SvdEigensystem system{compute_rotation_variant_svd(F)};
   const Vec3& s = system.svd.S;
   const Vec3 c(s(1) * s(2), s(0) * s(2), s(0) * s(1));

@@ -22,12 +22,19 @@ Mat9 cofactor_hessian(const Mat3& F);
 
 // f(Ic) + g(J) and the four derivatives the formulas above need, at one (Ic, J).
 struct InvariantTerms {
-  double psi = 0;
+  double psi = 0; // f(Ic) + g(J)
+  double g = 0;   // g(J) alone: the volume term, which an element may integrate apart
+                  // (mean dilatation, engine/assembly/mean_dilatation_element.hpp)
   double f1 = 0;  // f'(Ic)
   double f2 = 0;  // f''(Ic)
   double g1 = 0;  // g'(J)
   double g2 = 0;  // g''(J)
 };
+
+// The Hessian above and its closed-form eigensystem for given terms (which need not come from
+// one (Ic, J): mean dilatation takes g' at the element's mean J).
+Mat9 invariant_hessian(const Mat3& F, const InvariantTerms& t);
+SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t);
 
 class InvariantMaterial : public IsotropicMaterial {
  public:

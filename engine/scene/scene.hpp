@@ -29,6 +29,10 @@ struct MaterialDesc {
   double rho = 0;                      // density, kg/m^3, > 0
   double fung_c = 1;                   // "fung" only: exponent scale, > 0
   double arruda_boyce_n = 8;           // "arruda_boyce" only: chain segments N, > 1
+  // "volume_term": "mean_dilatation": hex8 elements integrate the volume term g(J) at the
+  // element's mean J instead of at each Gauss point (against locking as nu -> 1/2); only for
+  // models of the form f(Ic) + g(J). Default "per_point".
+  bool mean_dilatation = false;
   bool hyperelastic() const { return model != "corotational"; }
 };
 // Scene model name -> engine/materials name ("corotational_hyperelastic" -> "corotational").

@@ -401,6 +401,10 @@ void parse_transform(const Object& o, BodyDesc& body) {
   o.vec3("translate", body.translate);
 }
 
+bool is_invariant_model(const std::string& model) {
+  return model == "stable_neo_hookean" || model == "neo_hookean" || model == "fung" || model == "arruda_boyce";
+}
+
 MaterialDesc parse_material(const Object& o) {
   MaterialDesc m;
   o.choice("model", m.model, material_model_names());
@@ -412,6 +416,12 @@ MaterialDesc parse_material(const Object& o) {
     o.require("arruda_boyce_n").fail("only allowed with model \"arruda_boyce\"");
   o.number("fung_c", m.fung_c, kPositive);
   o.number("arruda_boyce_n", m.arruda_boyce_n, Range{1, kInf, true, false});
+  std::string volume_term = "per_point";
+  o.choice("volume_term", volume_term, {"per_point", "mean_dilatation"});
+  m.mean_dilatation = volume_term == "mean_dilatation";
+  if (m.mean_dilatation && !is_invariant_model(m.model))
+    o.require("volume_term").fail("\"mean_dilatation\" needs a model of the form f(Ic) + g(J): "
+                                  "\"stable_neo_hookean\", \"neo_hookean\", \"fung\" or \"arruda_boyce\"");
   return m;
 }
 
@@ -508,7 +518,10 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
   }
   o.number("surface_resolution", b.surface_resolution, kNonNegative);
   b.material = parse_material(
-      Object(o.require("material"), {"model", "E", "nu", "rho", "fung_c", "arruda_boyce_n"}));
+      Object(o.require("material"), {"model", "E", "nu", "rho", "fung_c", "arruda_boyce_n", "volume_term"}));
+  if (b.material.mean_dilatation && b.elements != "hex")
+    o.require("material").child("volume_term").fail(
+        "\"mean_dilatation\" is for hex elements (a tet has one point: its J is already the mean)");
   if (auto d = o.get("damping")) {
     const Object damping(*d, {"mass", "stiffness"});
     damping.number("mass", b.damping_mass, kNonNegative);

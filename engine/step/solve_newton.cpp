@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "engine/assembly/hyperelastic_element.hpp"
+#include "engine/assembly/mean_dilatation_element.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/step/stages.hpp"
 
@@ -47,6 +48,9 @@ void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double
 // its Hessian. Same sums as hyperelastic_element_derivatives (hyperelastic_element.hpp).
 double exact_element_derivatives(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
                                  Vec24& g, Mat24& K) {
+  if (quad.mean_dilatation)
+    return mean_dilatation_element_derivatives(static_cast<const InvariantMaterial&>(material), quad, nodes, true,
+                                               g, &K);
   double energy = 0;
   g.setZero();
   K.setZero();

@@ -1,10 +1,12 @@
 #pragma once
 // Case scrambled_cubes: paper 003, fig. 3 at scale. A Stable Neo-Hookean cube whose nodes are
-// thrown at random must stay finite and every step must be solved; whether it gets back to
-// its rest shape is reported only (a known open shortfall: it settles tangled, issue 6).
+// thrown at random must stay finite and every step must be solved; how many get back to their
+// rest shape (up to a rigid motion, within 1e-3 of its size) is reported with the seeds that
+// do not (about 1 %: a few inverted Gauss points inside upright elements, see the unit test).
 // Same cube, scramble and settings as tests/engine/scenes/test_paper003_scrambled_cube.cpp,
-// over more seeds: 1 m, 4 x 4 x 4 cells of 0.25 m split into tets, nu 0.49, no gravity,
-// h 0.5 s with mass damping (strongly dissipative), Newton to 1e-8, 2 steps.
+// over other seeds: 1 m, 4 x 4 x 4 hex8 cells of 0.25 m with the volume term at the mean
+// dilatation (per point, or split into tets, the mesh locks at nu 0.49 and settles tangled),
+// no gravity, h 0.5 s with mass damping (strongly dissipative), Newton to 1e-8, 10 steps.
 #include <Eigen/SVD>
 
 #include "engine/core/progress.hpp"
@@ -15,14 +17,15 @@ namespace sinew::stress {
 namespace scrambled {
 
 constexpr double kSize = 1.0;  // m, the cube's edge
-constexpr int kSteps = 2;
+constexpr int kSteps = 10;
 
 inline Model cube_model() {
   return build_model(parse_scene_text(R"({"h": 0.5, "gravity": [0, 0, 0],
     "solver": {"newton_tolerance": 1e-8, "newton_max_iterations": 30},
     "bodies": [{"name": "cube", "shape": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}],
-      "cell_size": 0.25, "elements": "tet", "damping": {"mass": 2},
-      "material": {"model": "stable_neo_hookean", "E": 1e5, "nu": 0.49, "rho": 1000}}]})",
+      "cell_size": 0.25, "elements": "hex", "damping": {"mass": 2},
+      "material": {"model": "stable_neo_hookean", "E": 1e5, "nu": 0.49, "rho": 1000,
+                   "volume_term": "mean_dilatation"}}]})",
                                       "scrambled_cube", "."),
                      ignore_warning);
 }
@@ -59,14 +62,14 @@ inline double rigid_fit_error(const Model& model, const VecX& x) {
 
 inline CaseResult run_scrambled_cubes(const Options& options) {
   using namespace scrambled;
-  const int cubes = options.quick ? 20 : 1000;
+  const int cubes = options.quick ? 20 : 500;
   const Model model = cube_model();
   int finite = 0, refused = 0, at_rest = 0, worst_newton = 0;
   double worst_error = 0, best_error = 1e300;
   std::vector<uint64_t> bad_seeds;
   Progress progress("scrambled_cubes", cubes);
   for (int c = 0; c < cubes; ++c) {
-    const uint64_t seed = c + 1;  // seeds 1..200 are the unit test's
+    const uint64_t seed = 201 + c;  // seeds 1..200 are the unit test's
     World world(model);
     scramble(world, seed);
     int newton = 0;
@@ -76,8 +79,8 @@ inline CaseResult run_scrambled_cubes(const Options& options) {
     });
     finite += run.finite;
     refused += run.refused_at >= 0;
-    if (!run.completed()) bad_seeds.push_back(seed);
     const double error = rigid_fit_error(model, world.state().x);
+    if (!run.completed() || error > 1e-3 * kSize) bad_seeds.push_back(seed);
     at_rest += error <= 1e-3 * kSize;
     worst_error = std::max(worst_error, error);
     best_error = std::min(best_error, error);
@@ -87,8 +90,8 @@ inline CaseResult run_scrambled_cubes(const Options& options) {
   progress.finish();
   CaseResult r;
   r.pass = finite == cubes && refused == 0;
-  r.summary = format("%d/%d finite, %d refused steps; back to rest within 1e-3 m: %d/%d (known shortfall, "
-                     "reported only), rigid-fit error %.3g..%.3g m, most Newton iterations in a run %d",
+  r.summary = format("%d/%d finite, %d refused steps; back to rest within 1e-3 m: %d/%d (reported), "
+                     "rigid-fit error %.3g..%.3g m, most Newton iterations in a run %d",
                      finite, cubes, refused, at_rest, cubes, best_error, worst_error, worst_newton);
   r.details = {{"cubes", cubes}, {"steps_each", kSteps}, {"finite", finite}, {"runs_with_refused_step", refused},
                {"back_to_rest_1e-3", at_rest}, {"worst_rigid_fit_error_m", worst_error},

@@ -638,3 +638,24 @@ TEST_CASE("scene parser: deeply nested JSON is an error") {
   const std::string ok = std::string(63, '[') + std::string(63, ']');
   CHECK(contains(error_of_text(R"({"name": )" + ok + R"(, "bodies": []})"), "name: expected a string"));
 }
+
+TEST_CASE("scene parser: material volume_term") {
+  json scene = minimal_scene();
+  CHECK_FALSE(parse(scene).bodies[0].material.mean_dilatation);  // default per point
+  scene["bodies"][0]["material"]["model"] = "stable_neo_hookean";
+  scene["bodies"][0]["material"]["volume_term"] = "mean_dilatation";
+  CHECK(parse(scene).bodies[0].material.mean_dilatation);
+
+  scene["bodies"][0]["material"]["volume_term"] = "mean";
+  check_error(scene, "bodies[0].material.volume_term: expected one of \"per_point\", \"mean_dilatation\", got \"mean\"");
+
+  scene["bodies"][0]["material"]["volume_term"] = "mean_dilatation";
+  scene["bodies"][0]["material"]["model"] = "stvk";
+  check_error(scene, "bodies[0].material.volume_term: \"mean_dilatation\" needs a model of the form f(Ic) + g(J)");
+  scene["bodies"][0]["material"]["model"] = "corotational";
+  check_error(scene, "bodies[0].material.volume_term: \"mean_dilatation\" needs a model of the form f(Ic) + g(J)");
+
+  scene["bodies"][0]["material"]["model"] = "neo_hookean";
+  scene["bodies"][0]["elements"] = "tet";
+  check_error(scene, "bodies[0].material.volume_term: \"mean_dilatation\" is for hex elements");
+}
