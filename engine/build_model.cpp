@@ -203,7 +203,7 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
     body.strain_limit = desc.strain_limit;
     body.hyperelastic = hyperelastic_material(desc.material);
     if (desc.material.mean_dilatation && !dynamic_cast<const InvariantMaterial*>(body.hyperelastic.get()))
-      throw InputError(where(scene, desc.json_path + ".material.volume_term") + "volume_term \"mean_dilatation\" needs a model of the form "
+      throw InputError(where(scene, desc.json_path + ".material.volume_term") + "\"mean_dilatation\" needs a model of the form "
                        "f(Ic) + g(J), not \"" + desc.material.model + "\"");
     if (!desc.tet_mesh_path.empty()) {
       build_tet_mesh_geometry(scene, desc, body);

@@ -1,6 +1,7 @@
 #include "engine/assembly/mean_dilatation_element.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -37,23 +38,26 @@ void add_nodal(const Mat83& dN, int n, const Mat3& M, double w, Vec24& out) {
 
 }  // namespace
 
+// The weights sum to V, so sum_q w psi(Ic_q, Jbar) = sum_q w f(Ic_q) + V g(Jbar): the
+// energy needs no split of psi into f and g.
 double mean_dilatation_element_energy(const InvariantMaterial& material, const ElementQuadrature& quad,
                                       const ElementNodes& nodes) {
+  assert(quad.points > 0 && quad.points <= kMaxPoints);
   PointState points[kMaxPoints];
   const double mean_J = gather_points(quad, nodes, points);
-  double energy = 0, g = 0;
+  double energy = 0;
   for (int q = 0; q < quad.points; ++q) {
-    const InvariantTerms t = material.terms(points[q].Ic, mean_J);
-    if (!std::isfinite(t.psi)) return std::numeric_limits<double>::infinity();
-    energy += quad.weight * (t.psi - t.g);  // f(Ic_q)
-    g = t.g;
+    const double psi = material.terms(points[q].Ic, mean_J).psi;
+    if (!std::isfinite(psi)) return std::numeric_limits<double>::infinity();
+    energy += quad.weight * psi;
   }
-  return energy + quad.points * quad.weight * g;
+  return energy;
 }
 
 double mean_dilatation_element_derivatives(const InvariantMaterial& material, const ElementQuadrature& quad,
                                            const ElementNodes& nodes, bool exact, Vec24& gradient,
                                            Mat24* hessian) {
+  assert(quad.points > 0 && quad.points <= kMaxPoints);
   PointState points[kMaxPoints];
   const double mean_J = gather_points(quad, nodes, points);
   const int n = nodes.count;
@@ -66,7 +70,7 @@ double mean_dilatation_element_derivatives(const InvariantMaterial& material, co
   for (int q = 0; q < quad.points; ++q) {
     const PointState& p = points[q];
     t = material.terms(p.Ic, mean_J);
-    energy += quad.weight * (t.psi - t.g);
+    energy += quad.weight * t.psi;
     const Mat3 cof = cofactor_matrix(p.F);
     add_nodal(quad.dN_dX[q], n, 2 * t.f1 * p.F + t.g1 * cof, quad.weight, gradient);
     add_nodal(quad.dN_dX[q], n, cof, quad.weight, b);
@@ -77,7 +81,6 @@ double mean_dilatation_element_derivatives(const InvariantMaterial& material, co
     if (!exact) D = remove_negative_modes(D, invariant_eigensystem(p.F, point_terms));
     add_point_hessian(quad.dN_dX[q], n, D, quad.weight, *hessian);
   }
-  energy += volume * t.g;
   if (!std::isfinite(energy)) energy = std::numeric_limits<double>::infinity();
   if (hessian) {
     const double g2 = exact ? t.g2 : std::max(t.g2, 0.0);

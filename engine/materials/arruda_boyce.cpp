@@ -34,7 +34,6 @@ Vec3 ArrudaBoyce::series(double Ic) const {
 InvariantTerms ArrudaBoyce::terms(double Ic, double J) const {
   const Vec3 phi = series(Ic);
   InvariantTerms t;
-  t.g = m_lambda / 2 * (J - 1) * (J - 1) - m_kappa * (J - 1);
   t.psi = m_mu * phi(0) + m_lambda / 2 * (J - 1) * (J - 1) - m_kappa * (J - 1);
   t.f1 = m_mu * phi(1);
   t.f2 = m_mu * phi(2);

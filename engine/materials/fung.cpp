@@ -26,7 +26,6 @@ InvariantTerms Fung::terms(double Ic, double J) const {
     e2 = top;
   }
   InvariantTerms t;
-  t.g = m_lambda / 2 * (J - 1) * (J - 1) - m_kappa * (J - 1);
   t.psi = m_mu / (2 * m_c) * (e0 - 1) + m_lambda / 2 * (J - 1) * (J - 1) - m_kappa * (J - 1);
   t.f1 = m_mu / 2 * e1;
   t.f2 = m_mu * m_c / 2 * e2;

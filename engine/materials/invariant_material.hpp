@@ -22,9 +22,7 @@ Mat9 cofactor_hessian(const Mat3& F);
 
 // f(Ic) + g(J) and the four derivatives the formulas above need, at one (Ic, J).
 struct InvariantTerms {
-  double psi = 0; // f(Ic) + g(J)
-  double g = 0;   // g(J) alone: the volume term, which an element may integrate apart
-                  // (mean dilatation, engine/assembly/mean_dilatation_element.hpp)
+  double psi = 0;  // f(Ic) + g(J)
   double f1 = 0;  // f'(Ic)
   double f2 = 0;  // f''(Ic)
   double g1 = 0;  // g'(J)

@@ -19,8 +19,6 @@ bool NeoHookean::is_defined(const Mat3& F) const {
 
 InvariantTerms NeoHookean::terms(double Ic, double J) const {
   InvariantTerms t;
-  t.g = J > 0 ? -m_mu * std::log(J) + m_lambda / 2 * std::log(J) * std::log(J)
-              : std::numeric_limits<double>::infinity();
   t.psi = J > 0 ? m_mu / 2 * (Ic - 3) - m_mu * std::log(J) + m_lambda / 2 * std::log(J) * std::log(J)
                 : std::numeric_limits<double>::infinity();
   t.f1 = m_mu / 2;

@@ -14,8 +14,7 @@ StableNeoHookean::StableNeoHookean(const MaterialParameters& params) {
 InvariantTerms StableNeoHookean::terms(double Ic, double J) const {
   const double d = J - m_alpha;
   InvariantTerms t;
-  t.g = m_lambda / 2 * d * d;
-  t.psi = m_mu / 2 * (Ic - 3) + t.g - m_mu / 2 * std::log(Ic + 1);
+  t.psi = m_mu / 2 * (Ic - 3) + m_lambda / 2 * d * d - m_mu / 2 * std::log(Ic + 1);
   t.f1 = m_mu / 2 * (1 - 1 / (Ic + 1));
   t.f2 = m_mu / (2 * (Ic + 1) * (Ic + 1));
   t.g1 = m_lambda * d;

@@ -3,6 +3,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+
 #include <stdexcept>
 
 namespace sinew {
@@ -88,8 +90,9 @@ void LinearSolver::prepare_block_workspaces(int rows) {
   for (const auto& ws : m_block_workspaces) {
     if (ws->rows == rows) continue;
     ws->rows = rows;
-    ws->padded.setZero(rows, kSolveBlock);
-    solve_block(*ws, ws->padded.data(), rows);  // sizes CHOLMOD's buffers once
+    if (ws->padded.rows() < rows) ws->padded.resize(rows, kSolveBlock);  // kept at the largest size
+    ws->padded.topRows(rows).setZero();
+    solve_block(*ws, ws->padded.data(), static_cast<int>(ws->padded.rows()));  // sizes CHOLMOD's buffers
   }
 }
 
@@ -119,18 +122,25 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
     }
     prepare_block_workspaces(n);
     const int blocks = static_cast<int>((B.cols() + kSolveBlock - 1) / kSolveBlock);
-    tbb::parallel_for(0, blocks, [&](int block) {
-      SolveWorkspace& ws = *m_block_workspaces[tbb::this_task_arena::current_thread_index()];
-      const int first = block * kSolveBlock;
-      const int width = std::min<int>(kSolveBlock, static_cast<int>(B.cols()) - first);
-      if (width == kSolveBlock) {
-        solve_block(ws, B.data() + static_cast<size_t>(first) * B.outerStride(), static_cast<int>(B.outerStride()));
-      } else {
-        ws.padded.leftCols(width) = B.middleCols(first, width);
-        ws.padded.rightCols(kSolveBlock - width).setZero();
-        solve_block(ws, ws.padded.data(), n);
+    // Task k owns workspace k and solves blocks k, k + P, ...: no workspace is shared, whatever
+    // thread (or arena slot) runs the task.
+    const int tasks = std::min<int>(blocks, static_cast<int>(m_block_workspaces.size()));
+    tbb::parallel_for(0, tasks, [&](int task) {
+      SolveWorkspace& ws = *m_block_workspaces[task];
+      const int stride = static_cast<int>(ws.padded.rows());
+      for (int block = task; block < blocks; block += tasks) {
+        const int first = block * kSolveBlock;
+        const int width = std::min<int>(kSolveBlock, static_cast<int>(B.cols()) - first);
+        if (width == kSolveBlock) {
+          solve_block(ws, B.data() + static_cast<size_t>(first) * B.outerStride(), static_cast<int>(B.outerStride()));
+        } else {
+          ws.padded.topLeftCorner(n, width) = B.middleCols(first, width);
+          ws.padded.topRightCorner(n, kSolveBlock - width).setZero();
+          solve_block(ws, ws.padded.data(), stride);
+        }
+        X.middleCols(first, width) =
+            Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, kSolveBlock).leftCols(width);
       }
-      X.middleCols(first, width) = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, kSolveBlock).leftCols(width);
     });
     return;
   }

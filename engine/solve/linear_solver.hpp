@@ -24,9 +24,9 @@ class LinearSolver {
   // Solves A x = b. PCG starts from the x passed in. Returns iterations (1 for CHOLMOD).
   int solve(const VecX& b, VecX& x);
   // Solves A X = B column by column, into X of B's size. CHOLMOD, simplicial factor: blocks
-  // of kSolveBlock columns solved in parallel, each with the workspace of its thread's arena
-  // slot, each block as wide whatever the thread count (X is bit-identical for any number of
-  // threads); supernodal factor: one call (BLAS-3) on the calling thread.
+  // of kSolveBlock columns solved in parallel (one task per workspace, blocks dealt round
+  // robin), each block as wide whatever the thread count (X is bit-identical for any number
+  // of threads); supernodal factor: one call (BLAS-3) on the calling thread.
   void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X);
   // The same, resizing X.
   void solve_many(const MatX& B, MatX& X) {
@@ -60,13 +60,13 @@ class LinearSolver {
     SolveWorkspace& operator=(const SolveWorkspace&) = delete;
     cholmod_common common;
     cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
-    MatX padded;     // rows x kSolveBlock: a narrower block, zero-padded
+    MatX padded;     // >= rows x kSolveBlock: a narrower block, zero-padded (its leading dimension)
     int rows = -1;   // the system size its buffers were made for
   };
-  // One workspace per arena slot, all made for the system's size before the blocks run, and
-  // every block solved kSolveBlock wide (the last one padded): CHOLMOD's buffers then never
-  // change size, whichever thread takes which block (a thread that first joined after the
-  // warm-up, or a block narrower than the one before, used to allocate mid-run).
+  // One workspace per thread the arena may run, all made for the system's size before the
+  // blocks run, and every block solved kSolveBlock wide (the last one padded): CHOLMOD's
+  // buffers then never change size, whichever thread takes which task (a thread that first
+  // joined after the warm-up, or a block narrower than the one before, used to allocate).
   void prepare_block_workspaces(int rows);
   void solve_block(SolveWorkspace& ws, const double* columns, int stride);
   Cholmod m_cholmod;

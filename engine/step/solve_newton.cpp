@@ -48,9 +48,12 @@ void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double
 // its Hessian. Same sums as hyperelastic_element_derivatives (hyperelastic_element.hpp).
 double exact_element_derivatives(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
                                  Vec24& g, Mat24& K) {
-  if (quad.mean_dilatation)
-    return mean_dilatation_element_derivatives(static_cast<const InvariantMaterial&>(material), quad, nodes, true,
-                                               g, &K);
+  if (quad.mean_dilatation) {
+    const auto& invariant = static_cast<const InvariantMaterial&>(material);
+    const double energy = mean_dilatation_element_derivatives(invariant, quad, nodes, true, g, &K);
+    // Undefined energy (neo_hookean, Jbar <= 0): the projected Hessian, as below.
+    return std::isfinite(energy) ? energy : mean_dilatation_element_derivatives(invariant, quad, nodes, false, g, &K);
+  }
   double energy = 0;
   g.setZero();
   K.setZero();
