@@ -5,15 +5,12 @@
 #include "engine/assembly/mean_dilatation_element.hpp"
 
 namespace sinew {
-namespace {
 
 Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes) {
   Mat3 F = Mat3::Zero();
   for (int a = 0; a < nodes.count; ++a) F += nodes.x[a] * dN_dX.row(a);
   return F;
 }
-
-}  // namespace
 
 // hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm, where H_jm is the 3x3 block of H that
 // couples column j of F with column m (vec(F) is column-major). Works on B's non-zero

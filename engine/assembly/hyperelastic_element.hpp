@@ -11,6 +11,9 @@
 
 namespace sinew {
 
+// F at one point: sum_a x_a (dN_a/dX)^T.
+Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes);
+
 // hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm over the first n nodes: w B^T H B for one
 // point, without forming B.
 void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat24& hessian);

@@ -22,8 +22,7 @@ struct PointState {
 double gather_points(const ElementQuadrature& quad, const ElementNodes& nodes, PointState* points) {
   double volume = 0, mean_J = 0;
   for (int q = 0; q < quad.points; ++q) {
-    Mat3 F = Mat3::Zero();
-    for (int a = 0; a < nodes.count; ++a) F += nodes.x[a] * quad.dN_dX[q].row(a);
+    const Mat3 F = deformation_gradient(quad.dN_dX[q], nodes);
     points[q] = {F, F.squaredNorm(), F.determinant()};
     volume += quad.weight;
     mean_J += quad.weight * points[q].J;

@@ -50,16 +50,8 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
   ++m_solves;
   if (m_use_cholmod) {
     // cholmod_solve2 into kept buffers: no allocation once they have b's size.
-    cholmod_dense view{};
-    view.nrow = view.d = b.size();
-    view.ncol = 1;
-    view.nzmax = b.size();
-    view.x = const_cast<double*>(b.data());
-    view.xtype = CHOLMOD_REAL;
-    view.dtype = CHOLMOD_DOUBLE;
     SolveWorkspace& ws = *m_single;
-    if (!cholmod_solve2(CHOLMOD_A, m_cholmod.factor(), &view, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
-      throw std::runtime_error("CHOLMOD solve failed (out of memory)");
+    solve_into(ws, b.data(), static_cast<int>(b.size()), 1, static_cast<int>(b.size()));
     x.resize(b.size());
     x = Eigen::Map<const VecX>(static_cast<const double*>(ws.x->x), b.size());
     m_last_residual = 0;
@@ -71,17 +63,21 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
   return static_cast<int>(m_pcg.iterations());
 }
 
-void LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride) {
-  cholmod_dense b{};  // a view of kSolveBlock columns: cholmod_solve2 only reads it
-  b.nrow = ws.rows;
+void LinearSolver::solve_into(SolveWorkspace& ws, const double* columns, int rows, int cols, int stride) {
+  cholmod_dense b{};  // a view of the columns: cholmod_solve2 only reads it
+  b.nrow = rows;
   b.d = stride;
-  b.ncol = kSolveBlock;
-  b.nzmax = static_cast<size_t>(stride) * kSolveBlock;
+  b.ncol = cols;
+  b.nzmax = static_cast<size_t>(stride) * cols;
   b.x = const_cast<double*>(columns);
   b.xtype = CHOLMOD_REAL;
   b.dtype = CHOLMOD_DOUBLE;
   if (!cholmod_solve2(CHOLMOD_A, m_cholmod.factor(), &b, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
     throw std::runtime_error("CHOLMOD solve failed (out of memory)");
+}
+
+void LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride) {
+  solve_into(ws, columns, ws.rows, kSolveBlock, stride);
 }
 
 void LinearSolver::prepare_block_workspaces(int rows) {
@@ -106,17 +102,8 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
     // two threads at once (wrong results, measured): one call with every column, which
     // BLAS-3 handles best anyway. A simplicial solve calls no BLAS: blocks in parallel.
     if (L->is_super) {
-      cholmod_dense b{};
-      b.nrow = n;
-      b.d = B.outerStride();
-      b.ncol = B.cols();
-      b.nzmax = static_cast<size_t>(b.d) * B.cols();
-      b.x = const_cast<double*>(B.data());
-      b.xtype = CHOLMOD_REAL;
-      b.dtype = CHOLMOD_DOUBLE;
       SolveWorkspace& ws = *m_wide;
-      if (!cholmod_solve2(CHOLMOD_A, L, &b, nullptr, &ws.x, nullptr, &ws.y, &ws.e, &ws.common))
-        throw std::runtime_error("CHOLMOD solve failed (out of memory)");
+      solve_into(ws, B.data(), n, static_cast<int>(B.cols()), static_cast<int>(B.outerStride()));
       X = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, B.cols());
       return;
     }

@@ -68,6 +68,8 @@ class LinearSolver {
   // buffers then never change size, whichever thread takes which task (a thread that first
   // joined after the warm-up, or a block narrower than the one before, used to allocate).
   void prepare_block_workspaces(int rows);
+  // cholmod_solve2 of `cols` columns (leading dimension `stride`) into ws's buffers.
+  void solve_into(SolveWorkspace& ws, const double* columns, int rows, int cols, int stride);
   void solve_block(SolveWorkspace& ws, const double* columns, int stride);
   Cholmod m_cholmod;
   std::vector<std::unique_ptr<SolveWorkspace>> m_block_workspaces;

@@ -7,6 +7,7 @@
 
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/fem/tet4.hpp"
+#include "tests/engine/assembly/element_finite_differences.hpp"
 
 using namespace sinew;
 
@@ -45,14 +46,8 @@ TEST_CASE("hyperelastic element: zero force at rest, gradient = FD of the energy
   // Central differences: error O(eps^2); it must fall as eps shrinks and end below 1e-6.
   double previous = 1e300, last = 0;
   for (double eps : {1e-3, 1e-4, 1e-5}) {
-    Vec24 fd = Vec24::Zero();
-    for (int i = 0; i < 24; ++i) {
-      ElementNodes plus = nodes, minus = nodes;
-      plus.x[i / 3][i % 3] += eps;
-      minus.x[i / 3][i % 3] -= eps;
-      fd[i] = (hyperelastic_element_energy(*f.material, f.quad, plus) -
-               hyperelastic_element_energy(*f.material, f.quad, minus)) / (2 * eps);
-    }
+    const Vec24 fd = test::fd_gradient(
+        nodes, eps, [&](const ElementNodes& n) { return hyperelastic_element_energy(*f.material, f.quad, n); });
     last = (fd - g).norm() / g.norm();
     CHECK(last < previous);
     previous = last;
@@ -67,17 +62,11 @@ TEST_CASE("hyperelastic element: Hessian = FD of the gradient where the material
   Vec24 g;
   Mat24 K;
   hyperelastic_element_derivatives(*f.material, f.quad, nodes, g, &K);
-  const double eps = 1e-6;
-  Mat24 fd;
-  for (int i = 0; i < 24; ++i) {
-    ElementNodes plus = nodes, minus = nodes;
-    plus.x[i / 3][i % 3] += eps;
-    minus.x[i / 3][i % 3] -= eps;
-    Vec24 gp, gm;
-    hyperelastic_element_derivatives(*f.material, f.quad, plus, gp, nullptr);
-    hyperelastic_element_derivatives(*f.material, f.quad, minus, gm, nullptr);
-    fd.col(i) = (gp - gm) / (2 * eps);
-  }
+  const Mat24 fd = test::fd_jacobian(nodes, 1e-6, [&](const ElementNodes& n) {
+    Vec24 gn;
+    hyperelastic_element_derivatives(*f.material, f.quad, n, gn, nullptr);
+    return gn;
+  });
   CHECK((fd - K).norm() / K.norm() < 1e-6);
 }
 
@@ -124,17 +113,11 @@ TEST_CASE("hyperelastic element: tet4 Hessian = FD of the gradient, padding zero
   hyperelastic_element_derivatives(*material, quad, nodes, g, &K);
   CHECK(K.rightCols<12>().norm() == 0);
   CHECK(K.bottomRows<12>().norm() == 0);
-  const double eps = 1e-7;
-  Mat12 fd;
-  for (int i = 0; i < 12; ++i) {
-    ElementNodes plus = nodes, minus = nodes;
-    plus.x[i / 3][i % 3] += eps;
-    minus.x[i / 3][i % 3] -= eps;
-    Vec24 gp, gm;
-    hyperelastic_element_derivatives(*material, quad, plus, gp, nullptr);
-    hyperelastic_element_derivatives(*material, quad, minus, gm, nullptr);
-    fd.col(i) = (gp - gm).head<12>() / (2 * eps);
-  }
+  const Mat12 fd = test::fd_jacobian(nodes, 1e-7, [&](const ElementNodes& n) {
+                     Vec24 gn;
+                     hyperelastic_element_derivatives(*material, quad, n, gn, nullptr);
+                     return gn;
+                   }).topLeftCorner<12, 12>();
   const Mat12 K12 = K.topLeftCorner<12, 12>();
   // Central differences: truncation O(eps^2 |d3 Psi|), round-off O(|g| 1e-16 / eps).
   CHECK((fd - K12).norm() / K12.norm() < 1e-6);

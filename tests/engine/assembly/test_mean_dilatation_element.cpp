@@ -8,6 +8,7 @@
 
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/assembly/mean_dilatation_element.hpp"
+#include "tests/engine/assembly/element_finite_differences.hpp"
 
 using namespace sinew;
 
@@ -79,14 +80,8 @@ TEST_CASE("mean dilatation element: zero force at rest, gradient = FD of the ene
     const Vec24 g = gradient_of(*m, f.mean, nodes);
     double previous = 1e300, last = 0;
     for (double eps : {1e-3, 1e-4, 1e-5}) {
-      Vec24 fd;
-      for (int i = 0; i < 24; ++i) {
-        ElementNodes plus = nodes, minus = nodes;
-        plus.x[i / 3][i % 3] += eps;
-        minus.x[i / 3][i % 3] -= eps;
-        fd[i] = (mean_dilatation_element_energy(*m, f.mean, plus) - mean_dilatation_element_energy(*m, f.mean, minus)) /
-                (2 * eps);
-      }
+      const Vec24 fd = test::fd_gradient(
+          nodes, eps, [&](const ElementNodes& n) { return mean_dilatation_element_energy(*m, f.mean, n); });
       last = (fd - g).norm() / g.norm();
       CHECK(last < previous);  // central differences: O(eps^2) until round-off
       previous = last;
@@ -106,14 +101,7 @@ TEST_CASE("mean dilatation element: exact Hessian = FD of the gradient, also whe
     mean_dilatation_element_derivatives(*m, f.mean, nodes, true, g, &K);
     if (std::string(name) == "stable_neo_hookean")  // the case the title claims, checked
       CHECK(Eigen::SelfAdjointEigenSolver<Mat24>(K).eigenvalues().minCoeff() < 0);
-    const double eps = 1e-6;
-    Mat24 fd;
-    for (int i = 0; i < 24; ++i) {
-      ElementNodes plus = nodes, minus = nodes;
-      plus.x[i / 3][i % 3] += eps;
-      minus.x[i / 3][i % 3] -= eps;
-      fd.col(i) = (gradient_of(*m, f.mean, plus) - gradient_of(*m, f.mean, minus)) / (2 * eps);
-    }
+    const Mat24 fd = test::fd_jacobian(nodes, 1e-6, [&](const ElementNodes& n) { return gradient_of(*m, f.mean, n); });
     // Truncation O(eps^2 |d3 Psi|) and round-off O(|g| 1e-16 / eps), both far below 1e-6.
     CHECK((fd - K).norm() / K.norm() < 1e-6);
     CHECK((K - K.transpose()).norm() <= 1e-12 * K.norm());
