@@ -174,6 +174,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   int newton = 0, linear = 0;
   double first_norm = -1;
   bool ok = true, factorised = false, exact = false;
+  int exact_steps = 0;  // Newton directions from the exact Hessian (stats: newton_exact)
   SparseMatrix& H = scratch.newton_H = A0;
   // Newton's matrix is the Hessian of Phi alone. The previous step's constraint curvature
   // (which factorize_step_system would add) has no term in Phi's gradient: with it the
@@ -264,6 +265,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       --newton;
       continue;
     }
+    exact_steps += exact;
     StageTimer timer(state.profile, Stage::Solve);
     // Backtracking: halve until Phi decreases enough (Armijo, c = 1e-4). The change of Phi
     // along the step is formed without subtracting totals, so that it stays accurate when
@@ -316,6 +318,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
             (driven.position(model.rest_x.segment<3>(3 * n), t_end) - x0.segment<3>(3 * n)) / model.h;
   }
   state.profile.iterations["newton"] += newton;
+  if (exact_steps) state.profile.iterations["newton_exact"] += exact_steps;
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += linear;
   return ok;
 }
