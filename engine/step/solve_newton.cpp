@@ -265,7 +265,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       --newton;
       continue;
     }
-    exact_steps += exact;
     StageTimer timer(state.profile, Stage::Solve);
     // Backtracking: halve until Phi decreases enough (Armijo, c = 1e-4). The change of Phi
     // along the step is formed without subtracting totals, so that it stays accurate when
@@ -298,6 +297,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       // No acceptable step along a descent direction: Newton cannot progress from here.
       if (k == 20) break;
     }
+    exact_steps += exact;  // this direction came from the exact Hessian and is taken
     exact = alpha == 1 && trusted;
     v += alpha * direction;
   }

@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <random>
 
 #include "engine/assembly/element_kernels.hpp"
@@ -32,14 +33,15 @@ SceneDesc three_bodies() {
                           "three", ".");
 }
 
-// Moves every node by up to 2 cm and gives it a velocity, so that rotations, forces and
-// warped blocks are all non-trivial.
+// Moves every node by up to 2 cm and gives it a velocity and an external force, so that
+// rotations, forces and warped blocks are all non-trivial.
 void perturb(State& s, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   for (int i = 0; i < s.x.size(); ++i) {
     s.x[i] += 0.02 * u(rng);
     s.v[i] = 0.5 * u(rng);
+    s.external_force[i] = u(rng);
   }
 }
 
@@ -56,7 +58,8 @@ TEST_CASE("assemble_system: A and b equal the element-by-element sums of eq. 19"
   const double h = m.h;
 
   // Reference: dense A = sum_e k_e R Ke R^T + (1 + h alpha) M over free DOFs, and
-  // b = M v + h (M g + f_elastic), each element's matrix taken whole (element_warped_stiffness).
+  // b = M v + h (M g + f_external + f_elastic), each element's matrix taken whole
+  // (element_warped_stiffness).
   const int n = 3 * m.num_free;
   MatX A = MatX::Zero(n, n);
   VecX force = VecX::Zero(3 * m.num_nodes);
@@ -89,18 +92,19 @@ TEST_CASE("assemble_system: A and b equal the element-by-element sums of eq. 19"
     const double mass = m.node_mass[node];
     const double alpha = m.bodies[m.node_body[node]].damping_mass;
     A.block<3, 3>(3 * fi, 3 * fi).diagonal().array() += (1 + h * alpha) * mass;
-    b.segment<3>(3 * fi) = mass * s.v.segment<3>(3 * node) + h * (mass * m.gravity + force.segment<3>(3 * node));
+    b.segment<3>(3 * fi) = mass * s.v.segment<3>(3 * node) +
+                           h * (mass * m.gravity + s.external_force.segment<3>(3 * node) + force.segment<3>(3 * node));
   }
 
   // Both sum the same terms, in other orders: round-off of a few ulps of the largest term.
   const MatX assembled = dense(s.system);
   CHECK((assembled - A).cwiseAbs().maxCoeff() <= 1e-13 * A.cwiseAbs().maxCoeff());
   CHECK((s.rhs - b).cwiseAbs().maxCoeff() <= 1e-13 * b.cwiseAbs().maxCoeff());
-  // The pattern is symmetric and so is every block written: A stays exactly symmetric.
+  // Blocks (a, b) and (b, a) are R Ke_ab R^T and its transpose up to the order of the sums.
   CHECK((assembled - assembled.transpose()).cwiseAbs().maxCoeff() <= 1e-13 * A.cwiseAbs().maxCoeff());
 }
 
-TEST_CASE("scatter_warped_stiffness adds sum_e coeff_e R Ke R^T, skipping coeff 0") {
+TEST_CASE("scatter_warped_stiffness adds sum_e coeff_e R Ke R^T") {
   World world(build_model(three_bodies(), [](const std::string&) {}));
   const Model& m = world.model();
   State& s = world.mutable_state();
@@ -126,14 +130,25 @@ TEST_CASE("scatter_warped_stiffness adds sum_e coeff_e R Ke R^T, skipping coeff 
   CHECK((dense(M) - expected).cwiseAbs().maxCoeff() <= 1e-13 * expected.cwiseAbs().maxCoeff());
 }
 
+// Colours are split into ranges of 16 elements: bodies with well over 16 elements per colour
+// (432 hexes in 8 colours, 768 tets), so that 2 threads do take part.
 TEST_CASE("assemble_system: A and b are bitwise the same on 1 and 2 threads") {
-  const auto assemble = [](int threads) {
+  const char* scene = R"({"bodies": [
+    {"name": "hex", "shape": [{"type": "box", "half_extents": [0.3, 0.15, 0.15]}], "cell_size": 0.05,
+     "material": {"E": 1e5, "nu": 0.3, "rho": 1000}, "damping": {"stiffness": 0.02},
+     "fixed": [{"half_space": {"point": [-0.29, 0, 0], "normal": [1, 0, 0]}}]},
+    {"name": "tet", "shape": [{"type": "box", "half_extents": [0.2, 0.1, 0.1], "center": [0, 1, 0]}],
+     "elements": "tet", "cell_size": 0.05, "material": {"E": 2e5, "nu": 0.4, "rho": 500}}]})";
+  const auto assemble = [&](int threads) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    World world(build_model(three_bodies(), [](const std::string&) {}));
+    World world(build_model(parse_scene_text(scene, "big", "."), [](const std::string&) {}));
+    size_t widest = 0;
+    for (const auto& colour : world.model().element_colors) widest = std::max(widest, colour.size());
+    REQUIRE(widest >= 54);
     State& s = world.mutable_state();
     perturb(s, 3);
     assemble_system(world.model(), s);
-    return std::make_pair(dense(s.system), s.rhs);
+    return std::make_pair(VecX(Eigen::Map<const VecX>(s.system.valuePtr(), s.system.nonZeros())), s.rhs);
   };
   const auto [A1, b1] = assemble(1);
   const auto [A2, b2] = assemble(2);
