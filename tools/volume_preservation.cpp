@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
     };
     for (const std::string& material : materials) row(material, Elements::AsScene);
     // The models mean dilatation applies to (docs/scenes.md, "volume_term").
-    for (const std::string& material : {"stable_neo_hookean", "neo_hookean"})
+    for (const char* material : {"stable_neo_hookean", "neo_hookean"})
       for (Elements elements : {Elements::HexPerPoint, Elements::HexMeanDilatation}) row(material, elements);
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s\n", e.what());
