@@ -91,11 +91,11 @@ std::vector<BenchScene> all_scenes() {
 // Tets holding an active strain limit (a row with lambda > 0) at the end of the step: the
 // "constrained tets" of paper 001's timings. Read from the multipliers the step keeps as the
 // next one's warm start (solve_constraints), since the row table itself is rebuilt, without
-// multipliers, by the SQP iteration that finds convergence. Keys: row_key (row_table.hpp).
+// multipliers, by the SQP iteration that finds convergence.
 int constrained_tets(const State& state) {
   std::vector<int> tets;
   for (const auto& [key, lambda] : state.warm_start)
-    if ((key >> 60) == uint64_t(RowKind::Strain) && lambda > 0) tets.push_back(static_cast<int>((key >> 24) & 0xFFFFFFFFFull));
+    if (row_key_kind(key) == RowKind::Strain && lambda > 0) tets.push_back(static_cast<int>(row_key_first(key)));
   std::sort(tets.begin(), tets.end());
   return static_cast<int>(std::unique(tets.begin(), tets.end()) - tets.begin());
 }

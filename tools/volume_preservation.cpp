@@ -4,8 +4,8 @@
 // Poisson ratios, and prints a Markdown table of the bent, settled state: the worst
 // |J_e - 1| over elements and the total volume change sum_e J_e V_e / sum_e V_e - 1, with
 // J_e each element's deformed over rest volume: det F of a tet; for a hex the mean of det F
-// at its 8 Gauss points, which integrate the trilinear map's det F exactly. A material whose run fails (NaN or a
-// singular system) is reported as such. After the scene's own elements, the models of the
+// at its 8 Gauss points, which integrate the trilinear map's det F exactly. A material whose
+// run fails (NaN or a singular system) is reported as such. After the scene's own elements, the models of the
 // form f(Ic) + g(J) run again on the unsplit hex lattice, with g at each Gauss point and at
 // the element's mean dilatation (material "volume_term"), to show what locking does.
 #include <Eigen/LU>

@@ -16,8 +16,8 @@ Aabb node_bounds(const VecX& x, int first, int count) {
 // Vertex index of a kept contact key with `partner` within [first, first + count), or -1.
 // Keys are (kind << 60) ^ (vertex << 24) ^ partner (row_key) with partner < 2^24.
 int kept_vertex(uint64_t key, uint32_t partner, uint32_t first, uint32_t count) {
-  if ((key >> 60) != uint64_t(RowKind::Contact) || (key & 0xFFFFFF) != partner) return -1;
-  const uint64_t vertex = (key >> 24) & ((uint64_t(1) << 36) - 1);
+  if (row_key_kind(key) != RowKind::Contact || row_key_second(key) != partner) return -1;
+  const uint64_t vertex = row_key_first(key);
   return vertex >= first && vertex < uint64_t(first) + count ? int(vertex - first) : -1;
 }
 

@@ -52,5 +52,9 @@ struct RowTable {
 inline uint64_t row_key(RowKind k, uint32_t a, uint32_t b = 0) {
   return (uint64_t(k) << 60) ^ (uint64_t(a) << 24) ^ uint64_t(b);
 }
+// The parts of a row_key: its kind, its first index a and its second index b.
+inline RowKind row_key_kind(uint64_t key) { return static_cast<RowKind>(key >> 60); }
+inline uint64_t row_key_first(uint64_t key) { return (key >> 24) & ((uint64_t(1) << 36) - 1); }
+inline uint32_t row_key_second(uint64_t key) { return static_cast<uint32_t>(key & 0xFFFFFF); }
 
 }  // namespace sinew

@@ -77,9 +77,9 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
   kept.clear();
   candidates.clear();
   for (uint64_t key : keep)
-    if ((key >> 60) == uint64_t(RowKind::Strain)) {
-      const int e = static_cast<int>((key >> 24) & 0xFFFFFFFFFull);
-      const uint32_t bit = 1u << (key & 0xFFFFFF);
+    if (row_key_kind(key) == RowKind::Strain) {
+      const int e = static_cast<int>(row_key_first(key));
+      const uint32_t bit = 1u << row_key_second(key);
       if (kept.empty() || kept.back().first != e) kept.push_back({e, 0});
       kept.back().second |= bit;
     }
