@@ -47,6 +47,7 @@ struct State {
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
+  long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset
   Delassus delassus;                 // W = J H^-1 J^T of the current SQP iteration (constraints)
   std::vector<int> touched_scratch, local_node;  // scratch of the constraint solve
   RowColumnCache row_columns;        // H^-1 J_i^T per row, per factorisation, when W is formed

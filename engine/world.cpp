@@ -111,6 +111,7 @@ void World::set_step_size(double h) {
 void World::forget_previous_step() {
   State& s = m_state;
   s.factor_age = m_model.solver.refactor_interval;
+  s.touched_inverse.reset(stage_model().num_free);  // H^-1 kept from earlier steps (delassus_reuse)
   s.warm_start.clear();
   s.curvature.clear();
   s.curvature_blocks.clear();

@@ -39,7 +39,8 @@ class World {
   // One attempt at a step of m_model.h; on failure x and v are rolled back.
   bool attempt_step();
   void set_step_size(double h);  // of m_model and m_frozen
-  // Drops what a step inherits from the previous one: factorisation, multipliers, curvature.
+  // Drops what a step inherits from the previous one: factorisation, kept H^-1, multipliers,
+  // curvature.
   void forget_previous_step();
 
   Model m_model;

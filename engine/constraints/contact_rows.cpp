@@ -52,14 +52,16 @@ void evaluate_probes(const VecX& x, const VecX& v, const Body& body, const Obsta
   });
 }
 
-// One row with stencil w_n d over the vertex's cell.
+// One row with stencil w_n d over the vertex's cell. Zero weights are left out: a vertex
+// on a node of a tet mesh has one non-zero weight of four, and a row of one node costs the
+// constraint solve 3 columns of H^-1 shared with the vertex's friction rows (delassus.hpp).
 void add_vertex_row(RowTable& rows, RowKind kind, double value, double lo, double hi, uint64_t key,
                     const Body& body, int vertex, const Vec3& d) {
   rows.add_row(kind, value, lo, hi, key);
   const auto& cell = body.lattice.cells[body.embedding.cell[vertex]];
   const auto& w = body.embedding.weights[vertex];
   for (int n = 0; n < 8; ++n)
-    if (cell[n] >= 0) rows.add_entry(body.node_offset + cell[n], w[n] * d);
+    if (cell[n] >= 0 && w[n] != 0) rows.add_entry(body.node_offset + cell[n], w[n] * d);
 }
 
 // Which eighth of its cell a surface vertex sits in (by its rest position).

@@ -84,6 +84,20 @@ void Delassus::symmetrize_W() {
     for (int i = j + 1; i < size(); ++i) W(i, j) = W(j, i) = 0.5 * (W(i, j) + W(j, i));
 }
 
+void Delassus::multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const {
+  if (m_dense) {
+    out.noalias() = W() * lambda;
+    return;
+  }
+  Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
+  u.noalias() = T() * lambda;
+  for (int i = 0; i < size(); ++i) {
+    double s = 0;
+    for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(u.segment<3>(3 * m_local[e]));
+    out[i] = s;
+  }
+}
+
 MatX Delassus::matrix() const {
   if (m_dense) return W();
   MatX W(size(), size());

@@ -38,6 +38,8 @@ class Delassus {
   void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c);
   double w(int i) const;
   void changed(int i, double delta);
+  // out = W lambda (the stored or factored W; no m x m matrix is formed).
+  void multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const;
   // W itself (tests, and lcp_residual): the stored W in the dense forms, formed from T in
   // the factored one.
   MatX matrix() const;

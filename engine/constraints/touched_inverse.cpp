@@ -3,6 +3,7 @@
 namespace sinew {
 
 void TouchedInverse::reset(int free_nodes) {
+  m_stale = false;
   for (const int f : m_nodes) m_local[f] = -1;
   m_local.resize(free_nodes, -1);
   m_nodes.clear();

@@ -18,6 +18,11 @@ class TouchedInverse {
  public:
   // Forget everything: H was refactorised. `free_nodes` is the number of free nodes.
   void reset(int free_nodes);
+  // H was refactorised but G is kept (solver.delassus_reuse): from now on its columns are
+  // those of an earlier H, an approximation, until reset(). Columns added later come from
+  // the current H.
+  void keep_stale() { m_stale = true; }
+  bool stale() const { return m_stale; }
 
   // Adds the free nodes of `nodes` (free indices, any order, repeats allowed) that have no
   // columns yet; `solve_many(B, X)` must compute X = H^-1 B (X given with B's size, a map
@@ -35,6 +40,7 @@ class TouchedInverse {
   void grow(int nodes);  // capacity for at least `nodes` touched nodes, keeping G
   void add_columns(const std::vector<int>& added, const Eigen::Ref<const MatX>& X);
 
+  bool m_stale = false;
   std::vector<int> m_local;  // per free node: local index or -1
   std::vector<int> m_nodes;  // local index -> free node
   MatX m_G;                  // capacity x capacity (3 DOFs per node); the leading block is valid

@@ -164,6 +164,12 @@ struct SolverDesc {
   // the last factorisation is reused: the SQP loop's Newton iterations still converge to
   // the same tolerances, at a fraction of the cost while rotations change slowly.
   int refactor_interval = 1;
+  // Keep H^-1 on the nodes constraint rows touch (touched_inverse.hpp) for up to this many
+  // steps across refactorisations, topping it up with the current factor for nodes touched
+  // for the first time. The LCP then runs on that approximate W, corrected by the exact
+  // W lambda of its warm start (one extra solve per SQP iteration), so SQP converges to the
+  // same tolerances; a stall recomputes it. 1: recompute with every factorisation.
+  int delassus_reuse = 8;
   double activation_margin = 0.05; // rows for elements with Ue/Umax > 1 - margin (predicted)
   // Contact (engine/constraints/contact_rows.hpp).
   double contact_tolerance = 1e-4; // m, deepest penetration SQP accepts

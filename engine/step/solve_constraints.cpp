@@ -104,8 +104,10 @@ bool strays_beyond_margin(const Model& model, const VecX& v0, const VecX& v) {
 // nodes (touched_inverse.hpp) when the nodes no earlier row of this factorisation touched
 // cost at most one solve per row (3 per node); otherwise from one solve per row,
 // Y = H^-1 J^T, whose columns are kept for the rows whose Jacobian does not change
-// (row_column_cache.hpp). Returns the columns solved.
-int factor_delassus(const Model& model, LinearSolver& solver, State& s) {
+// (row_column_cache.hpp). Returns the columns solved; `approximate` says whether W came
+// from a kept G of an earlier factorisation (solver.delassus_reuse).
+int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& approximate) {
+  approximate = false;
   const int m = s.rows.size();
   std::vector<int>& touched = s.touched_scratch;
   touched.clear();
@@ -120,6 +122,8 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s) {
     s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch);
     return solved;
   }
+  if (s.touched_inverse.size() == 0) s.touched_inverse_step = s.step_count;
+  approximate = s.touched_inverse.stale();
   const int solved = s.touched_inverse.require(touched, solve_many);
   s.local_node.resize(model.num_nodes);
   for (int n = 0; n < model.num_nodes; ++n) {
@@ -153,7 +157,12 @@ void update_curvature(const Model& model, State& s) {
 // each iteration linearises the rows at x_k = x0 + h v_k and solves the QP
 //   H dv = -(A v_k - b) + J^T lambda,   C_k + h J dv >= 0,   lo <= lambda <= hi
 // through the LCP  W lambda + c >= 0 (eq. 23), W = J H^-1 J^T, by PGS; v_k+1 = v_k + dv.
-// W comes from H^-1 on the touched nodes only (touched_inverse.hpp, delassus.hpp).
+// W comes from H^-1 on the touched nodes only (touched_inverse.hpp, delassus.hpp). With
+// solver.delassus_reuse > 1 that H^-1 may be kept from an earlier step's factorisation:
+// the LCP is then solved with that approximate W~ and c + (W - W~) lambda_0 at its warm
+// start lambda_0 (W lambda_0 by one solve), whose solution, iterated over SQP iterations
+// (a splitting method for the LCP), converges to the exact W's; a stalled iteration
+// recomputes H^-1 before refactorising.
 // H = A + sum_e curvature_e R Ke R^T holds the constraints' curvature (without it the
 // iteration cycles once the limits carry large forces). H comes from the step's single
 // factorisation (solve_velocity), built with the previous step's multipliers; it is
@@ -183,7 +192,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   keep.clear();
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
-  int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0;
+  int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0, refreshes = 0;
+  bool converged = false;
   // Moves are h |dv|_inf of the correction taken (damped or not): with a constant step
   // fraction their ratio is that of the full corrections, which the stall test judges.
   double last_move = 1e300, previous_move = 1e300, previous_worst = 1e300, step_fraction = 1;
@@ -201,7 +211,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   for (int k = 0;; ++k) {
     const double worst = rows_at_iterate(k);
     if (k == 0 && s.factor_exact && (s.rows.size() == 0 || worst <= 1)) break;
-    if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) break;
+    if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
+      converged = true;
+      break;
+    }
     if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp)) break;
     // v* violates something. When the previous step was constrained too, v* has left out
     // the forces that held the body (a finger pressed on a table: v* runs 0.5 m through
@@ -224,9 +237,13 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     VecX& v_base = sc.v_base = k == 0 ? v_star : v_free;
     {
       StageTimer timer(profile, Stage::SqpFactorize);
-      // Stalled: the stale curvature converges too slowly; refactorise with the current one.
-      if (k >= 2 && last_move > 0.5 * previous_move) {
-        if (!factorize_step_system(model, solver, s)) break;
+      // Stalled: a kept H^-1 (delassus_reuse) converges too slowly, recompute it; else the
+      // stale curvature does, refactorise with the current one.
+      if (k >= 2 && last_move > 0.5 * previous_move && s.touched_inverse.stale()) {
+        s.touched_inverse.reset(model.num_free);
+        ++refreshes;
+      } else if (k >= 2 && last_move > 0.5 * previous_move) {
+        if (!factorize_step_system(model, solver, s, false)) break;
         s.factor_exact = !s.factor_curved;
         ++refactorisations;
       }
@@ -241,17 +258,31 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     VecX& v_next = sc.v_next = v_base;
     if (m > 0) {
-      solved_columns += factor_delassus(model, solver, s);
+      bool approximate = false;
+      solved_columns += factor_delassus(model, solver, s, approximate);
+      // c, J (v_base - v_k), weights; with an approximate W: W lambda_0, W~ lambda_0
+      Eigen::Map<MatX> per_row = sc.per_row.view(m, 5);
+      auto c = per_row.col(0), jdv = per_row.col(1), weights = per_row.col(2);
+      auto exact_w = per_row.col(3), approximate_w = per_row.col(4);
+      const Eigen::Map<const VecX> lambda0(s.rows.lambda.data(), m);
+      const bool correct = approximate && !lambda0.isZero(0);
+      if (correct) {
+        apply_jacobian_transpose(model, s.rows, sc.impulse);
+        sc.correction.setZero(v_free.size());
+        solver.solve(sc.impulse, sc.correction);
+        exact_w.setZero();
+        add_jacobian_times(model, s.rows, sc.correction, exact_w);
+        s.delassus.multiply(lambda0, approximate_w);
+      }
       solve_timer.stop();
       {
         StageTimer pgs_timer(profile, Stage::Pgs);
         // C_k + h J (v - v_k) >= 0 with v = v_base + H^-1 J^T lambda.
-        Eigen::Map<MatX> per_row = sc.per_row.view(m, 3);  // c, J (v_base - v_k), weights
-        auto c = per_row.col(0), jdv = per_row.col(1), weights = per_row.col(2);
         sc.dv = v_base - v_free;
         jdv.setZero();
         add_jacobian_times(model, s.rows, sc.dv, jdv);
         c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + jdv;
+        if (correct) c += exact_w - approximate_w;
         residual_weights(cfg, h, s.rows, weights);
         pgs += solve_pgs(s.delassus, c, weights, s.rows,
                          IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
@@ -313,6 +344,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   profile.iterations["pgs"] += pgs;
   if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
   if (solved_columns) profile.iterations["solved_columns"] += solved_columns;
+  if (refreshes) profile.iterations["delassus_refreshes"] += refreshes;
+  // Not converged with a kept H^-1: the next factorisation recomputes it.
+  if (sqp > 0 && !converged && s.touched_inverse.stale()) s.touched_inverse_step = s.step_count - cfg.delassus_reuse;
 }
 
 }  // namespace sinew

@@ -190,15 +190,20 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     state.factor_exact = !state.factor_curved;
     return factorised;
   };
-  auto assemble = [&] {
+  // with_hessian false: energies and gradient only (H keeps the factorised Hessian).
+  auto assemble = [&](bool with_hessian = true) {
     positions_at(model, t_end, x0, v, x);
     StageTimer timer(state.profile, Stage::Assemble);
-    H = A0;
-    hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, H.valuePtr());
+    if (with_hessian) H = A0;
+    hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, with_hessian ? H.valuePtr() : nullptr);
     state.profile.work.elements += hyperelastic_elements;
   };
   for (;; ++newton) {
-    assemble();
+    // At the iteration cap the loop ends after this assembly whatever the residual, and a
+    // factorisation is already there: its Hessian would go unused (one Newton iteration
+    // per step assembled it twice).
+    const int newton_cap = IterationCaps::effective(cfg.newton_max_iterations, state.caps.newton);
+    assemble(!(newton == newton_cap && factorised));
     // Undefined energy (an inverted neo_hookean element) at the warm start: start from the
     // positions of the step's start instead (v = 0); if the energy is undefined there too,
     // the step has no incremental potential to minimise and fails.
@@ -236,7 +241,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // Converged: the factorisation of the last iterate's Hessian stays (one is made if the
     // start was already converged, for solve_constraints).
     state.profile.violation["newton_residual"] = first_norm > 0 ? norm / first_norm : 0.0;
-    const int newton_cap = IterationCaps::effective(cfg.newton_max_iterations, state.caps.newton);
     if (norm <= cfg.newton_tolerance * first_norm || norm == 0 || newton == newton_cap) {
       if (!factorised) ok = factorize();
       if (!ok && exact) {  // the exact Hessian at the result is not SPD: leave a projected one

@@ -10,9 +10,15 @@ namespace sinew {
 // constraints H = A and this is v* = A^-1 b of eq. 19; with them, the same factorisation
 // serves every SQP iteration of the step (solve_constraints), so a step that keeps its
 // contacts and limits costs one factorisation, not one per iteration.
-bool factorize_step_system(const Model& model, LinearSolver& solver, State& state) {
+bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus) {
   state.factor_age = 0;
-  state.touched_inverse.reset(model.num_free);
+  // Kept G: columns of an earlier H, corrected for in solve_constraints. Only with CHOLMOD,
+  // whose columns are exact for the H they came from; for delassus_reuse steps from the
+  // first step that filled it. The per-row columns are exact by contract: always dropped.
+  const bool keep = may_keep_delassus && solver.uses_cholmod() && state.touched_inverse.size() > 0 &&
+                    state.step_count - state.touched_inverse_step < model.solver.delassus_reuse;
+  if (keep) state.touched_inverse.keep_stale();
+  else state.touched_inverse.reset(model.num_free);
   state.row_columns.reset();
   state.factor_curved = !state.curvature_blocks.empty() ||
                         std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });

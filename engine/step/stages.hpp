@@ -14,7 +14,9 @@ void assemble_system(const Model& model, State& state);
 //      constraints) and take the Newton step v = v0 + H^-1 (b - A v0), which is v* = A^-1 b
 //      when H = A; scattered into state.v (fixed nodes: 0). False if factorisation failed.
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state);
-bool factorize_step_system(const Model& model, LinearSolver& solver, State& state);
+// The factorisation alone. H^-1 on the touched nodes (state.touched_inverse) is forgotten,
+// or kept as an approximation while solver.delassus_reuse allows and `may_keep_delassus`.
+bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus = true);
 
 // 2-3 for scenes with hyperelastic bodies (paper 003): Newton on the incremental potential
 //    from the previous velocities; leaves system/rhs as the quadratic model at the result.

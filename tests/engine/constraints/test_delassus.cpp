@@ -93,6 +93,22 @@ TEST_CASE("touched inverse: G equals H^-1 on the touched nodes, symmetric") {
   CHECK(worst < 1e-12 * Hinv.norm());
 }
 
+TEST_CASE("touched inverse: kept across a refactorisation it is marked stale until reset") {
+  std::mt19937 rng(6);
+  const Problem p = random_problem(12, 6, rng);
+  const Eigen::LLT<MatX> llt(p.H);
+  std::vector<int> local_node;
+  TouchedInverse inverse = touched_inverse(p, llt, local_node);
+  CHECK_FALSE(inverse.stale());
+  const int nodes = inverse.size();
+  inverse.keep_stale();
+  CHECK(inverse.stale());
+  CHECK(inverse.size() == nodes);  // the columns stay
+  inverse.reset(p.nodes - 1);
+  CHECK_FALSE(inverse.stale());
+  CHECK(inverse.size() == 0);
+}
+
 TEST_CASE("Delassus: factored, dense and direct forms all equal J H^-1 J^T") {
   std::mt19937 rng(9);
   // Many rows on few nodes (factored form) and few rows on many nodes (dense form).
@@ -119,6 +135,9 @@ TEST_CASE("Delassus: factored, dense and direct forms all equal J H^-1 J^T") {
     W.changed(3, 0.7);
     const VecX w = expected * lambda + c;
     for (int i = 0; i < m; ++i) CHECK(W.w(i) == doctest::Approx(w[i]).epsilon(1e-10));
+    VecX product(m);
+    W.multiply(lambda, product);
+    CHECK((product - expected * lambda).norm() < 1e-12 * expected.norm() * lambda.norm());
 
     Delassus direct;
     direct.build_direct(p.rows, p.free_index, llt.solve(J.transpose()));
@@ -173,4 +192,52 @@ TEST_CASE("PGS on redundant rows stops on the residual and meets it") {
   CHECK(result.iterations < 100000);
   CHECK(result.residual <= tolerance);
   CHECK(lcp_residual(W, c, rows) <= tolerance);
+}
+
+// solver.delassus_reuse: the LCP solved with W~ = J H~^-1 J^T of an earlier H~ and
+// c + (W - W~) lambda_k at the last solution lambda_k, repeated (what successive SQP
+// iterations do), is a splitting method for the LCP (W, c). Its fixed points are exactly
+// the solutions of (W, c): 0 <= lambda _|_ W~ lambda + c + (W - W~) lambda = W lambda + c.
+// It converges when 2 W~ - W is positive definite; here H~ = H + a random symmetric
+// perturbation of 10 % of |H|.
+TEST_CASE("LCP splitting with an approximate W converges to the exact W's solution") {
+  std::mt19937 rng(11);
+  Problem p = random_problem(30, 20, rng);  // 20 rows on 87 DOFs: W positive definite
+  std::normal_distribution<double> normal;
+  const int n = static_cast<int>(p.H.rows());
+  MatX E(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) E(i, j) = normal(rng);
+  E = 0.5 * (E + E.transpose());
+  const MatX H_old = p.H + 0.1 * p.H.norm() / E.norm() * E;
+  const Eigen::LLT<MatX> exact_llt(p.H), old_llt(H_old);
+  REQUIRE(old_llt.info() == Eigen::Success);
+  const MatX J = jacobian(p);
+  const MatX W = J * exact_llt.solve(J.transpose()), W_old = J * old_llt.solve(J.transpose());
+  REQUIRE(Eigen::LLT<MatX>(2 * W_old - W).info() == Eigen::Success);  // the premise
+  VecX c(p.rows.size());
+  for (int i = 0; i < c.size(); ++i) c[i] = normal(rng);  // about half the rows active
+  const int m = p.rows.size();
+  const auto solve = [&](const MatX& matrix, const VecX& rhs, RowTable& rows) {
+    const PgsResult r = solve_pgs(matrix, rhs, rows, 100000, 1e-14);
+    REQUIRE(r.residual <= 1e-14);
+  };
+  RowTable exact_rows = p.rows;
+  solve(W, c, exact_rows);
+  const Eigen::Map<const VecX> exact(exact_rows.lambda.data(), m);
+  REQUIRE(exact.norm() > 0);
+
+  RowTable rows = p.rows;  // lambda = 0
+  const Eigen::Map<const VecX> lambda(rows.lambda.data(), m);
+  double error = exact.norm();
+  int iterations = 0;
+  for (; iterations < 60 && error > 1e-10 * exact.norm(); ++iterations) {
+    const VecX shifted = c + (W - W_old) * lambda;
+    solve(W_old, shifted, rows);
+    error = (lambda - exact).norm();
+  }
+  MESSAGE("splitting: " << iterations << " iterations to |lambda - lambda*| = " << error << " (|lambda*| "
+                        << exact.norm() << ")");
+  CHECK(error <= 1e-10 * exact.norm());
+  CHECK(lcp_residual(W, c, rows) <= 1e-9 * c.norm());
 }

@@ -28,8 +28,10 @@ TEST_CASE("step retry: NaN multipliers inherited from the last step are dropped 
   settle(fresh);
   REQUIRE(spoiled.state_hash() == fresh.state_hash());
   for (auto& [key, lambda] : spoiled.mutable_state().warm_start) lambda = std::numeric_limits<double>::quiet_NaN();
-  // What the afresh retry does, done by hand: no warm start, no curvature, a new factorisation.
+  // What the afresh retry does, done by hand: no warm start, no curvature, a new
+  // factorisation, no H^-1 kept from earlier steps.
   State& f = fresh.mutable_state();
+  f.touched_inverse.reset(fresh.model().num_free);
   f.warm_start.clear();
   f.curvature.clear();
   f.curvature_blocks.clear();
