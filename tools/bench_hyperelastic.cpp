@@ -1,6 +1,7 @@
 // sinew_bench_hyperelastic: paper 003, section 5 of issue 6. Stable Neo-Hookean drops of the
 // shared TetGen meshes bunny_5 (5,266 tets) and cube_20 (13,200 tets) onto a ground plane,
-// h = 1/60 s, E = 5e5 Pa, nu = 0.45, rho = 1000 kg/m^3, mass damping 1/s, CHOLMOD. Per mesh:
+// h = 1/60 s, E = 5e5 Pa, nu = 0.45, rho = 1000 kg/m^3, mass damping 1/s, CHOLMOD, the
+// default solver.delassus_reuse unless --delassus-reuse says otherwise. Per mesh:
 // time per step with one Newton iteration (newton_max_iterations 1) and with Newton
 // converged to a relative residual of 1e-6 (cap 50), on 1 and 2 threads
 // (tbb::global_control); Newton and linear iterations per step. Each run starts the drop
@@ -39,10 +40,12 @@ const std::vector<MeshCase> kMeshes = {
     {"bunny_5", R"({"scale": 0.002, "rotation_deg": [-90, 0, 0], "translate": [0, 0.05, 0]})"},
     {"cube_20", R"({"scale": 0.2, "translate": [-0.3, 0.05, -0.075]})"}};
 
-SceneDesc drop_scene(const std::string& mesh_path, const MeshCase& mesh, int newton_iterations, double tolerance) {
+SceneDesc drop_scene(const std::string& mesh_path, const MeshCase& mesh, int newton_iterations, double tolerance,
+                     int delassus_reuse) {
   const std::string text = R"({"name": ")" + mesh.name + R"(", "h": 0.0166666666666667,
     "solver": {"newton_max_iterations": )" + std::to_string(newton_iterations) +
-                           R"(, "newton_tolerance": )" + std::to_string(tolerance) + R"(},
+                           R"(, "newton_tolerance": )" + std::to_string(tolerance) +
+                           R"(, "delassus_reuse": )" + std::to_string(delassus_reuse) + R"(},
     "bodies": [{"name": ")" + mesh.name + R"(", "tet_mesh": ")" + mesh_path + R"(", "transform": )" +
                            mesh.transform + R"(,
       "material": {"model": "stable_neo_hookean", "E": 5e5, "nu": 0.45, "rho": 1000},
@@ -82,20 +85,21 @@ double median(std::vector<double> v) { return v.empty() ? 0.0 : quantile(v, 0.5)
 }  // namespace
 
 int main(int argc, char** argv) {
-  int warmup = 5, steps = 60;
+  int warmup = 5, steps = 60, delassus_reuse = SolverDesc{}.delassus_reuse;
   std::string out = "bench_hyperelastic.json";
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--steps" && i + 1 < argc) steps = std::stoi(argv[++i]);
     else if (arg == "--warmup" && i + 1 < argc) warmup = std::stoi(argv[++i]);
     else if (arg == "--out" && i + 1 < argc) out = argv[++i];
+    else if (arg == "--delassus-reuse" && i + 1 < argc) delassus_reuse = std::stoi(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: sinew_bench_hyperelastic [--steps N] [--warmup N] [--out FILE]\n");
+      std::fprintf(stderr, "usage: sinew_bench_hyperelastic [--steps N] [--warmup N] [--delassus-reuse N] [--out FILE]\n");
       return 2;
     }
   }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
-                            {"steps", steps}, {"runs", nlohmann::json::array()}};
+                            {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"runs", nlohmann::json::array()}};
   for (const MeshCase& mesh : kMeshes) {
     const std::string base = std::string(SINEW_SOURCE_DIR) + "/../shared/meshes/tet/" + mesh.name;
     if (!std::filesystem::exists(base + ".node") || !std::filesystem::exists(base + ".ele")) {
@@ -107,7 +111,7 @@ int main(int argc, char** argv) {
       for (int threads : {1, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         try {
-          const SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance);
+          const SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse);
           const Samples s = run(scene, warmup, steps);
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "
