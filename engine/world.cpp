@@ -92,8 +92,11 @@ bool World::step() {
     s.t = t0 + h;
     s.step_count = count0 + 1;
     // The last factorisation is of the system for h / substeps: the next step must not reuse
-    // it (refactor_interval > 1).
-    if (substeps_used > 1) s.factor_age = m_model.solver.refactor_interval;
+    // it (refactor_interval > 1), nor H^-1 from it (delassus_reuse > 1).
+    if (substeps_used > 1) {
+      s.factor_age = m_model.solver.refactor_interval;
+      s.touched_inverse.reset(stage_model().num_free);
+    }
   } else {
     forget_previous_step();
   }

@@ -193,7 +193,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
   int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0, refreshes = 0;
-  bool converged = false;
+  bool converged = false, approximate = false;  // approximate: the last W came from a kept G
   // Moves are h |dv|_inf of the correction taken (damped or not): with a constant step
   // fraction their ratio is that of the full corrections, which the stall test judges.
   double last_move = 1e300, previous_move = 1e300, previous_worst = 1e300, step_fraction = 1;
@@ -239,7 +239,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       StageTimer timer(profile, Stage::SqpFactorize);
       // Stalled: a kept H^-1 (delassus_reuse) converges too slowly, recompute it; else the
       // stale curvature does, refactorise with the current one.
-      if (k >= 2 && last_move > 0.5 * previous_move && s.touched_inverse.stale()) {
+      if (k >= 2 && last_move > 0.5 * previous_move && approximate && s.touched_inverse.stale()) {
         s.touched_inverse.reset(model.num_free);
         ++refreshes;
       } else if (k >= 2 && last_move > 0.5 * previous_move) {
@@ -258,7 +258,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     VecX& v_next = sc.v_next = v_base;
     if (m > 0) {
-      bool approximate = false;
       solved_columns += factor_delassus(model, solver, s, approximate);
       // c, J (v_base - v_k), weights; with an approximate W: W lambda_0, W~ lambda_0
       Eigen::Map<MatX> per_row = sc.per_row.view(m, 5);

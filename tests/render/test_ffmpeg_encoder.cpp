@@ -15,14 +15,14 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct TempDir {
+struct EncoderTempDir {
   fs::path path;
-  explicit TempDir(const std::string& name)
+  explicit EncoderTempDir(const std::string& name)
       : path(fs::temp_directory_path() / ("sinew_ffmpeg_" + name + "_" + std::to_string(getpid()))) {
     fs::remove_all(path);
     fs::create_directories(path);
   }
-  ~TempDir() { fs::remove_all(path); }
+  ~EncoderTempDir() { fs::remove_all(path); }
   size_t count() const { return size_t(std::distance(fs::directory_iterator(path), fs::directory_iterator())); }
 };
 
@@ -34,7 +34,7 @@ TEST_CASE("ffmpeg: found along PATH; a missing one gets an error that says how t
   CHECK(!find_in_path("ffmpeg").empty());
   CHECK(find_in_path("sinew-no-such-program").empty());
   const std::string saved = std::getenv("PATH");
-  TempDir empty("path");
+  EncoderTempDir empty("path");
   setenv("PATH", empty.path.c_str(), 1);
   CHECK(find_in_path("ffmpeg").empty());
   CHECK_THROWS_WITH_AS(require_ffmpeg(), doctest::Contains("apt-get install ffmpeg"), RenderError);
@@ -42,7 +42,7 @@ TEST_CASE("ffmpeg: found along PATH; a missing one gets an error that says how t
 }
 
 TEST_CASE("ffmpeg: 12 frames at 64x48 make an H.264 yuv420p MP4 of 12 frames at 64x48") {
-  TempDir dir("ok");
+  EncoderTempDir dir("ok");
   const std::string out = (dir.path / "v.mp4").string();
   FfmpegEncoder encoder({64, 48, 24}, find_in_path("ffmpeg"), out);
   for (int i = 0; i < 12; ++i) encoder.write_frame(grey_frame(64, 48, uint8_t(20 * i)).data());
@@ -59,7 +59,7 @@ TEST_CASE("ffmpeg: 12 frames at 64x48 make an H.264 yuv420p MP4 of 12 frames at 
 }
 
 TEST_CASE("ffmpeg: an abandoned recording leaves no file at all") {
-  TempDir dir("abandon");
+  EncoderTempDir dir("abandon");
   {
     FfmpegEncoder encoder({32, 32, 30}, find_in_path("ffmpeg"), (dir.path / "v.mp4").string());
     encoder.write_frame(grey_frame(32, 32, 100).data());
@@ -68,7 +68,7 @@ TEST_CASE("ffmpeg: an abandoned recording leaves no file at all") {
 }
 
 TEST_CASE("ffmpeg: a failing encoder is reported with its messages, and nothing is left") {
-  TempDir dir("fail");
+  EncoderTempDir dir("fail");
   // A stand-in "ffmpeg" that complains and exits without reading: the writer sees EPIPE.
   const fs::path fake = dir.path / "fake-ffmpeg";
   std::ofstream(fake) << "#!/bin/sh\necho 'codec exploded' >&2\nexit 3\n";
