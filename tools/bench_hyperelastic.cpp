@@ -1,7 +1,8 @@
 // sinew_bench_hyperelastic: paper 003, section 5 of issue 6. Stable Neo-Hookean drops of the
 // shared TetGen meshes bunny_5 (5,266 tets) and cube_20 (13,200 tets) onto a ground plane,
 // h = 1/60 s, E = 5e5 Pa, nu = 0.45, rho = 1000 kg/m^3, mass damping 1/s, CHOLMOD, the
-// default solver.delassus_reuse unless --delassus-reuse says otherwise. Per mesh:
+// default solver.delassus_reuse and refactor_interval unless --delassus-reuse and
+// --refactor-interval say otherwise. Per mesh:
 // time per step with one Newton iteration (newton_max_iterations 1) and with Newton
 // converged to a relative residual of 1e-6 (cap 50), on 1 and 2 threads
 // (tbb::global_control); Newton and linear iterations per step. Each run starts the drop
@@ -41,11 +42,12 @@ const std::vector<MeshCase> kMeshes = {
     {"cube_20", R"({"scale": 0.2, "translate": [-0.3, 0.05, -0.075]})"}};
 
 SceneDesc drop_scene(const std::string& mesh_path, const MeshCase& mesh, int newton_iterations, double tolerance,
-                     int delassus_reuse) {
+                     int delassus_reuse, int refactor_interval) {
   const std::string text = R"({"name": ")" + mesh.name + R"(", "h": 0.0166666666666667,
     "solver": {"newton_max_iterations": )" + std::to_string(newton_iterations) +
                            R"(, "newton_tolerance": )" + std::to_string(tolerance) +
-                           R"(, "delassus_reuse": )" + std::to_string(delassus_reuse) + R"(},
+                           R"(, "delassus_reuse": )" + std::to_string(delassus_reuse) +
+                           R"(, "refactor_interval": )" + std::to_string(refactor_interval) + R"(},
     "bodies": [{"name": ")" + mesh.name + R"(", "tet_mesh": ")" + mesh_path + R"(", "transform": )" +
                            mesh.transform + R"(,
       "material": {"model": "stable_neo_hookean", "E": 5e5, "nu": 0.45, "rho": 1000},
@@ -55,7 +57,7 @@ SceneDesc drop_scene(const std::string& mesh_path, const MeshCase& mesh, int new
 }
 
 struct Samples {
-  std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints;
+  std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints, preconditioned, factorizations;
   bool finite = true;
 };
 
@@ -72,6 +74,9 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
     s.newton.push_back(count("newton"));
     // CHOLMOD: one direct solve per Newton iteration; PCG: its iterations.
     s.linear.push_back(scene.solver.linear == "pcg" ? count("pcg") : count("newton"));
+    // refactor_interval > 1: CG iterations preconditioned with an older factorisation.
+    s.preconditioned.push_back(count("newton_pcg"));
+    s.factorizations.push_back(static_cast<double>(p.work.factorizations));
     s.assemble.push_back(ms(Stage::Assemble));
     s.factorize.push_back(ms(Stage::Factorize));
     s.solve.push_back(ms(Stage::Solve));
@@ -81,11 +86,17 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
 }
 
 double median(std::vector<double> v) { return v.empty() ? 0.0 : quantile(v, 0.5); }
+double mean(const std::vector<double>& v) {
+  double sum = 0;
+  for (double x : v) sum += x;
+  return v.empty() ? 0.0 : sum / static_cast<double>(v.size());
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  int warmup = 5, steps = 60, delassus_reuse = SolverDesc{}.delassus_reuse;
+  int warmup = 5, steps = 60, delassus_reuse = SolverDesc{}.delassus_reuse,
+      refactor_interval = SolverDesc{}.refactor_interval;
   std::string out = "bench_hyperelastic.json";
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -93,13 +104,15 @@ int main(int argc, char** argv) {
     else if (arg == "--warmup" && i + 1 < argc) warmup = std::stoi(argv[++i]);
     else if (arg == "--out" && i + 1 < argc) out = argv[++i];
     else if (arg == "--delassus-reuse" && i + 1 < argc) delassus_reuse = std::stoi(argv[++i]);
+    else if (arg == "--refactor-interval" && i + 1 < argc) refactor_interval = std::stoi(argv[++i]);
     else {
-      std::fprintf(stderr, "usage: sinew_bench_hyperelastic [--steps N] [--warmup N] [--delassus-reuse N] [--out FILE]\n");
+      std::fprintf(stderr, "usage: sinew_bench_hyperelastic [--steps N] [--warmup N] [--delassus-reuse N] [--refactor-interval N]\n"
+                   "                                 [--out FILE]\n");
       return 2;
     }
   }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
-                            {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"runs", nlohmann::json::array()}};
+                            {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"refactor_interval", refactor_interval}, {"runs", nlohmann::json::array()}};
   for (const MeshCase& mesh : kMeshes) {
     const std::string base = std::string(SINEW_SOURCE_DIR) + "/../shared/meshes/tet/" + mesh.name;
     if (!std::filesystem::exists(base + ".node") || !std::filesystem::exists(base + ".ele")) {
@@ -111,15 +124,16 @@ int main(int argc, char** argv) {
       for (int threads : {1, 2}) {
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         try {
-          const SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse);
+          const SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse, refactor_interval);
           const Samples s = run(scene, warmup, steps);
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "
-                      "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step%s\n",
+                      "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step; factorisations "
+                      "%.2f and preconditioned CG iterations %.2f per step (means)%s\n",
                       mesh.name.c_str(), mode, threads, median(s.step_ms), median(s.assemble), median(s.factorize),
                       median(s.solve), median(s.constraints), median(s.newton),
                       s.newton.empty() ? 0.0 : *std::max_element(s.newton.begin(), s.newton.end()), median(s.linear),
-                      s.finite ? "" : "  (stopped: non-finite)");
+                      mean(s.factorizations), mean(s.preconditioned), s.finite ? "" : "  (stopped: non-finite)");
           std::fflush(stdout);
           results["runs"].push_back({{"mesh", mesh.name}, {"mode", mode}, {"threads", threads},
                                      {"finite", s.finite}, {"step_ms_median", median(s.step_ms)},
@@ -128,7 +142,9 @@ int main(int argc, char** argv) {
                                      {"solve_ms_median", median(s.solve)},
                                      {"constraints_ms_median", median(s.constraints)},
                                      {"newton_median", median(s.newton)}, {"newton_total", total_newton},
-                                     {"linear_median", median(s.linear)}, {"timed_steps", s.step_ms.size()}});
+                                     {"linear_median", median(s.linear)}, {"factorizations_mean", mean(s.factorizations)},
+                                     {"preconditioned_cg_mean", mean(s.preconditioned)},
+                                     {"timed_steps", s.step_ms.size()}});
         } catch (const InputError& e) {
           std::fprintf(stderr, "%s\n", e.what());
           return 2;

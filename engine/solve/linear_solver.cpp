@@ -63,6 +63,32 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
   return static_cast<int>(m_pcg.iterations());
 }
 
+int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance,
+                                      int max_iterations) {
+  VecX &r = m_residual, &z = m_preconditioned, &p = m_search, &q = m_product;
+  const double target = tolerance * b.norm();
+  x.setZero(b.size());
+  r = b;
+  if (r.norm() <= target) return 0;
+  solve(r, z);
+  p = z;
+  double rz = r.dot(z);
+  for (int it = 1; it <= max_iterations; ++it) {
+    q.noalias() = A * p;
+    const double curvature = p.dot(q);
+    if (!(curvature > 0)) return -1;
+    const double alpha = rz / curvature;
+    x += alpha * p;
+    r -= alpha * q;
+    if (r.norm() <= target) return it;
+    solve(r, z);
+    const double rz_next = r.dot(z);
+    p = z + (rz_next / rz) * p;
+    rz = rz_next;
+  }
+  return -1;
+}
+
 void LinearSolver::solve_into(SolveWorkspace& ws, const double* columns, int rows, int cols, int stride) {
   cholmod_dense b{};  // a view of the columns: cholmod_solve2 only reads it
   b.nrow = rows;

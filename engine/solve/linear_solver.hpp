@@ -23,6 +23,11 @@ class LinearSolver {
   bool factorize(const SparseMatrix& A);
   // Solves A x = b. PCG starts from the x passed in. Returns iterations (1 for CHOLMOD).
   int solve(const VecX& b, VecX& x);
+  // CHOLMOD only: solves A x = b, A full symmetric (both triangles) and not the matrix last
+  // factorised, by conjugate gradients preconditioned with that factorisation, from x = 0
+  // until |b - A x| <= tolerance |b|. Returns the iterations, or -1 when max_iterations
+  // were not enough or A showed no positive curvature along a search direction.
+  int solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations);
   // Solves A X = B column by column, into X of B's size. CHOLMOD, simplicial factor: blocks
   // of kSolveBlock columns solved in parallel (one task per workspace, blocks dealt round
   // robin), each block as wide whatever the thread count (X is bit-identical for any number
@@ -46,6 +51,7 @@ class LinearSolver {
   bool m_use_cholmod = true;
   bool m_analyzed = false;
   double m_last_residual = 0;
+  VecX m_residual, m_preconditioned, m_search, m_product;  // solve_preconditioned's, kept
   long m_factorizations = 0, m_solves = 0;
   SolverDesc m_desc;
   // Eigen's wrapper, with the factor exposed for solves from several threads at once.

@@ -183,9 +183,25 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // own rows.
   state.curvature.clear();
   state.curvature_blocks.clear();
-  auto factorize = [&] {
+  // refactor_interval > 1: between factorisations the Newton directions come from
+  // conjugate gradients on this H preconditioned with the last factorisation (a few solves
+  // instead of a factorisation while H changes slowly), to pcg_tolerance; the constraint
+  // solve then refines with that older factor as it does on the linear path.
+  const bool may_reuse = state.step_count > 0 && solver.uses_cholmod() &&
+                         ++state.factor_age < cfg.refactor_interval;
+  bool preconditioning = false;
+  int preconditioned_iterations = 0;
+  auto factorize = [&](bool allow_reuse = true) {
     StageTimer timer(state.profile, Stage::Factorize);
     state.system = H;
+    if (allow_reuse && may_reuse) {
+      preconditioning = factorised = true;
+      state.factor_exact = false;
+      state.profile.skipped[static_cast<int>(Stage::Factorize)] = "preconditioning with the factorisation of an earlier step";
+      return true;
+    }
+    preconditioning = false;
+    state.profile.skipped[static_cast<int>(Stage::Factorize)].clear();
     factorised = factorize_step_system(model, solver, state);
     state.factor_exact = !state.factor_curved;
     return factorised;
@@ -253,12 +269,32 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     bool usable = factorize();
     double slope = 0;
     if (usable) {
-      StageTimer timer(state.profile, Stage::Solve);
-      direction.setZero(v.size());
       scratch.negative_gradient = -gradient;
-      linear += solver.solve(scratch.negative_gradient, direction);
-      slope = gradient.dot(direction);
-      usable = slope < 0;
+      direction.setZero(v.size());
+      int iterations = -1;
+      if (preconditioning) {
+        {
+          StageTimer timer(state.profile, Stage::Solve);
+          // Past this many iterations a factorisation is cheaper (one costs 20-70 solves on
+          // the meshes of sinew_bench_hyperelastic).
+          constexpr int kPreconditionedCap = 12;
+          iterations = solver.solve_preconditioned(H, scratch.negative_gradient, direction, cfg.pcg_tolerance,
+                                                   kPreconditionedCap);
+        }
+        // Too slow or no descent: this H is far from the factorised one; factorise it.
+        if (iterations < 0) usable = factorize(false);
+      }
+      if (iterations >= 0) {
+        preconditioned_iterations += iterations;
+      } else if (usable) {
+        StageTimer timer(state.profile, Stage::Solve);
+        direction.setZero(v.size());
+        linear += solver.solve(scratch.negative_gradient, direction);
+      }
+      if (usable) {
+        slope = gradient.dot(direction);
+        usable = slope < 0;
+      }
     }
     if (!usable) {
       if (!exact) {
@@ -323,6 +359,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   }
   state.profile.iterations["newton"] += newton;
   if (exact_steps) state.profile.iterations["newton_exact"] += exact_steps;
+  if (preconditioned_iterations) state.profile.iterations["newton_pcg"] += preconditioned_iterations;
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += linear;
   return ok;
 }

@@ -43,9 +43,10 @@ std::string write_block() {
   return base + ".node";
 }
 
-SceneDesc drop(const std::string& mesh, int reuse, double E, double gap) {
+SceneDesc drop(const std::string& mesh, int reuse, double E, double gap, int refactor_interval = 1) {
   const std::string text = R"({"h": 0.0166666666666667,
-    "solver": {"newton_max_iterations": 1, "sleep_steps": 0, "delassus_reuse": )" + std::to_string(reuse) + R"(},
+    "solver": {"newton_max_iterations": 1, "sleep_steps": 0, "delassus_reuse": )" + std::to_string(reuse) +
+                           R"(, "refactor_interval": )" + std::to_string(refactor_interval) + R"(},
     "bodies": [{"name": "block", "tet_mesh": ")" + mesh + R"(", "transform": {"translate": [0, )" + std::to_string(gap) + R"(, 0]},
       "material": {"model": "stable_neo_hookean", "E": )" + std::to_string(E) + R"(, "nu": 0.45, "rho": 1000}, "damping": {"mass": 1}}],
     "obstacles": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "friction": 0.5}]})";
@@ -88,6 +89,9 @@ TEST_CASE("delassus_reuse: H^-1 kept across steps meets the same tolerances with
   // reused one penetrates 12x deeper).
   const double E = 2e4, gap = 0.2;
   const Run fresh = run(drop(mesh, 1, E, gap), steps), reused = run(drop(mesh, 30, E, gap), steps);
+  // And with Newton's directions preconditioned by a factorisation of up to 8 steps ago
+  // (refactor_interval): the constraint solve then also refines with that older factor.
+  const Run preconditioned = run(drop(mesh, 30, E, gap, 8), steps);
   const SolverDesc solver = drop(mesh, 1, E, gap).solver;
   const double tolerance = solver.contact_tolerance;
   MESSAGE("columns solved: " << fresh.columns << " (reuse 1) vs " << reused.columns << " (reuse 30); SQP iterations "
@@ -98,6 +102,8 @@ TEST_CASE("delassus_reuse: H^-1 kept across steps meets the same tolerances with
   REQUIRE(fresh.columns > 0);
   CHECK(fresh.every_step_converged);
   CHECK(reused.every_step_converged);
+  CHECK(preconditioned.every_step_converged);
+  CHECK(preconditioned.worst_penetration <= tolerance);
   CHECK(fresh.worst_penetration <= tolerance);
   CHECK(reused.worst_penetration <= tolerance);
   // One factorisation's H^-1 serves up to 30 steps, less when SQP stalls on it.
@@ -110,4 +116,11 @@ TEST_CASE("delassus_reuse: H^-1 kept across steps meets the same tolerances with
     farthest = std::max(farthest, (fresh.x.segment<3>(3 * n) - reused.x.segment<3>(3 * n)).norm());
   MESSAGE("farthest node apart after " << steps << " steps: " << farthest << " m");
   CHECK(farthest <= tolerance + sqp_move);
+  double farthest_preconditioned = 0;
+  for (Eigen::Index n = 0; n < fresh.x.size() / 3; ++n)
+    farthest_preconditioned =
+        std::max(farthest_preconditioned, (fresh.x.segment<3>(3 * n) - preconditioned.x.segment<3>(3 * n)).norm());
+  MESSAGE("with refactor_interval 8: " << preconditioned.sqp << " SQP iterations, " << farthest_preconditioned
+                                       << " m from reuse 1");
+  CHECK(farthest_preconditioned <= tolerance + sqp_move);
 }
