@@ -239,10 +239,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       StageTimer timer(profile, Stage::SqpFactorize);
       // Stalled: a kept H^-1 (delassus_reuse) converges too slowly, recompute it; else the
       // stale curvature does, refactorise with the current one.
-      if (k >= 2 && last_move > 0.5 * previous_move && approximate && s.touched_inverse.stale()) {
+      const bool stalled = k >= 2 && last_move > 0.5 * previous_move;
+      if (stalled && approximate && s.touched_inverse.stale()) {
         s.touched_inverse.reset(model.num_free);
         ++refreshes;
-      } else if (k >= 2 && last_move > 0.5 * previous_move) {
+      } else if (stalled) {
         if (!factorize_step_system(model, solver, s, false)) break;
         s.factor_exact = !s.factor_curved;
         ++refactorisations;

@@ -187,8 +187,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // conjugate gradients on this H preconditioned with the last factorisation (a few solves
   // instead of a factorisation while H changes slowly), to pcg_tolerance; the constraint
   // solve then refines with that older factor as it does on the linear path.
-  const bool may_reuse = state.step_count > 0 && solver.uses_cholmod() &&
-                         ++state.factor_age < cfg.refactor_interval;
+  // Cleared when a direction is rejected: the redo with the projected Hessian must factorise
+  // it, not precondition with a factor that failed or was of an indefinite exact Hessian.
+  bool may_reuse = state.step_count > 0 && solver.uses_cholmod() && ++state.factor_age < cfg.refactor_interval;
   bool preconditioning = false;
   int preconditioned_iterations = 0;
   auto factorize = [&](bool allow_reuse = true) {
@@ -302,6 +303,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         break;
       }
       exact = false;  // redo this iteration with the projected Hessian
+      may_reuse = false;
       --newton;
       continue;
     }
