@@ -271,8 +271,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     double slope = 0;
     if (usable) {
       scratch.negative_gradient = -gradient;
-      direction.setZero(v.size());
-      int iterations = -1;
+      int iterations = -1;  // solve_preconditioned starts from direction = 0 itself
       if (preconditioning) {
         {
           StageTimer timer(state.profile, Stage::Solve);
