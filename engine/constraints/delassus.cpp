@@ -98,6 +98,24 @@ void Delassus::multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> o
   }
 }
 
+void Delassus::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x,
+                             Eigen::Ref<VecX> out) const {
+  const int n = static_cast<int>(rows.size());
+  out.setZero();
+  if (m_dense) {
+    const Eigen::Map<MatX> W = this->W();
+    for (int b = 0; b < n; ++b)
+      for (int a = 0; a < n; ++a) out[a] += W(rows[a], rows[b]) * x[b];
+    return;
+  }
+  Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
+  u.setZero();
+  const Eigen::Map<MatX> T = this->T();
+  for (int b = 0; b < n; ++b) u.noalias() += T.col(rows[b]) * x[b];
+  for (int a = 0; a < n; ++a)
+    for (int e = m_begin[rows[a]]; e < m_begin[rows[a] + 1]; ++e) out[a] += m_jac[e].dot(u.segment<3>(3 * m_local[e]));
+}
+
 MatX Delassus::matrix() const {
   if (m_dense) return W();
   MatX W(size(), size());

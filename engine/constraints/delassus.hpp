@@ -40,6 +40,9 @@ class Delassus {
   void changed(int i, double delta);
   // out = W lambda (the stored or factored W; no m x m matrix is formed).
   void multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const;
+  // The same on a subset of rows (solve_pgs's subspace steps): out_a = sum_b W(rows_a,
+  // rows_b) x_b, over |rows| columns of W or T.
+  void multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> out) const;
   // W itself (tests, and lcp_residual): the stored W in the dense forms, formed from T in
   // the factored one.
   MatX matrix() const;

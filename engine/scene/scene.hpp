@@ -157,6 +157,9 @@ struct SolverDesc {
                                    // C over the step, is below this fraction of its kind's tolerance
                                    // (contacts: 5e-6 m, below sqp_position_tolerance, so that PGS's
                                    // error does not keep SQP from converging)
+  // Every this many PGS sweeps that leave pgs_tolerance unmet, a subspace step: conjugate
+  // gradients on the rows strictly inside their bounds (lcp_subspace.hpp). 0: plain PGS.
+  int pgs_subspace_interval = 8;
   int sqp_max_iterations = 10;
   double sqp_tolerance = 1e-3;     // worst Ue/Umax - 1 accepted
   double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further

@@ -1,5 +1,6 @@
 #include "engine/solve/linear_solver.hpp"
 
+#include <omp.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
@@ -8,6 +9,16 @@
 #include <stdexcept>
 
 namespace sinew {
+
+namespace {
+// Debian's CHOLMOD runs OpenMP regions in its factorisation and solves. Their threads
+// would spin beside TBB's on the same cores; with the calling thread's active levels at 0
+// every region runs on that thread alone (an OpenMP ICV, per thread: set on each calling
+// thread, cheaply, before each call).
+void limit_openmp() {
+  if (omp_get_max_active_levels() != 0) omp_set_max_active_levels(0);
+}
+}  // namespace
 
 LinearSolver::SolveWorkspace::SolveWorkspace() { cholmod_start(&common); }
 
@@ -42,6 +53,7 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
     m_cholmod.analyzePattern(A);
     m_analyzed = true;
   }
+  limit_openmp();
   m_cholmod.factorize(A);
   return m_cholmod.info() == Eigen::Success;
 }
@@ -90,6 +102,7 @@ int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, Vec
 }
 
 void LinearSolver::solve_into(SolveWorkspace& ws, const double* columns, int rows, int cols, int stride) {
+  limit_openmp();
   cholmod_dense b{};  // a view of the columns: cholmod_solve2 only reads it
   b.nrow = rows;
   b.d = stride;

@@ -192,7 +192,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   keep.clear();
   for (const auto& [key, lambda] : s.warm_start)
     if (lambda > 0) keep.push_back(key);
-  int sqp = 0, pgs = 0, refactorisations = 0, solved_columns = 0, refreshes = 0;
+  int sqp = 0, pgs = 0, subspace_products = 0, refactorisations = 0, solved_columns = 0, refreshes = 0;
   bool converged = false, approximate = false;  // approximate: the last W came from a kept G
   // Moves are h |dv|_inf of the correction taken (damped or not): with a constant step
   // fraction their ratio is that of the full corrections, which the stall test judges.
@@ -284,9 +284,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + jdv;
         if (correct) c += exact_w - approximate_w;
         residual_weights(cfg, h, s.rows, weights);
-        pgs += solve_pgs(s.delassus, c, weights, s.rows,
-                         IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs), cfg.pgs_tolerance)
-                   .iterations;
+        const PgsResult result = solve_pgs(s.delassus, c, weights, s.rows,
+                                           IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs),
+                                           cfg.pgs_tolerance, cfg.pgs_subspace_interval);
+        pgs += result.iterations;
+        subspace_products += result.subspace_products;
       }
       if (model.has_strain_limits) {
         StageTimer rows_timer(profile, Stage::Rows);
@@ -343,6 +345,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   profile.iterations["sqp"] += sqp;
   profile.iterations["pgs"] += pgs;
   if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
+  // Reported whenever PGS ran with subspace steps on, 0 included: a name first met in a
+  // warm step would allocate there (profile_map.hpp).
+  if (sqp > 0 && cfg.pgs_subspace_interval > 0) profile.iterations["pgs_subspace_products"] += subspace_products;
   if (solved_columns) profile.iterations["solved_columns"] += solved_columns;
   if (refreshes) profile.iterations["delassus_refreshes"] += refreshes;
   // Not converged with a kept H^-1: the next factorisation recomputes it.
