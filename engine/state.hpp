@@ -59,6 +59,13 @@ struct State {
                                      // the last SQP iteration; H = A + sum_e curvature_e R Ke R^T
   std::vector<std::pair<int, Eigen::Matrix<double, 12, 12>>> curvature_blocks;  // per tet with
                                      // strain rows: h sum lambda_i K_i (strain_limit_curvature.hpp)
+  // The last SQP iteration's rows and their linearisation point, whose curvature (above)
+  // is computed only when a factorisation needs it (settle_curvature, stages.hpp): strain
+  // rows' blocks cost 18 constraint evaluations per tet, and most SQP iterations end
+  // without a refactorisation.
+  RowTable curvature_rows;
+  VecX curvature_point;
+  bool curvature_pending = false;
   bool factor_curved = false;        // the last factorisation included curvature
   bool factor_exact = false;         // the solver holds exactly this step's A (solve)
   int factor_age = 0;                // steps since the last factorisation (solve)

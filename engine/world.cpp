@@ -118,6 +118,7 @@ void World::forget_previous_step() {
   s.warm_start.clear();
   s.curvature.clear();
   s.curvature_blocks.clear();
+  s.curvature_pending = false;
 }
 
 bool World::attempt_step() {

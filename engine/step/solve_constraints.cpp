@@ -134,24 +134,28 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
   return solved;
 }
 
-// Per element, h sum_i lambda_i curvature_i over its rows: the constraints' part of the
-// Lagrangian Hessian (lambda is an impulse, hence one h).
-void update_curvature(const Model& model, State& s) {
+}  // namespace
+
+// Per element, h sum_i lambda_i curvature_i over the pending rows: the constraints' part of
+// the Lagrangian Hessian (lambda is an impulse, hence one h).
+void settle_curvature(const Model& model, State& s) {
+  if (!s.curvature_pending) return;
+  s.curvature_pending = false;
+  RowTable& rows = s.curvature_rows;
+  if (model.has_strain_limits && rows.size() > 0) add_strain_limit_curvatures(model, s.curvature_point, rows);
   s.curvature.assign(model.num_elements, 0.0);
   s.curvature_blocks.clear();
-  for (int i = 0; i < s.rows.size(); ++i) {
-    if (s.rows.element[i] < 0 || s.rows.lambda[i] <= 0) continue;
-    const double weight = model.h * s.rows.lambda[i];
-    s.curvature[s.rows.element[i]] += weight * s.rows.curvature[i];
-    if (const int b = s.rows.curvature_block[i]; b >= 0) {
-      if (s.curvature_blocks.empty() || s.curvature_blocks.back().first != s.rows.element[i])
-        s.curvature_blocks.push_back({s.rows.element[i], Eigen::Matrix<double, 12, 12>::Zero()});
-      s.curvature_blocks.back().second += weight * s.rows.curvature_blocks[b];
+  for (int i = 0; i < rows.size(); ++i) {
+    if (rows.element[i] < 0 || rows.lambda[i] <= 0) continue;
+    const double weight = model.h * rows.lambda[i];
+    s.curvature[rows.element[i]] += weight * rows.curvature[i];
+    if (const int b = rows.curvature_block[i]; b >= 0) {
+      if (s.curvature_blocks.empty() || s.curvature_blocks.back().first != rows.element[i])
+        s.curvature_blocks.push_back({rows.element[i], Eigen::Matrix<double, 12, 12>::Zero()});
+      s.curvature_blocks.back().second += weight * rows.curvature_blocks[b];
     }
   }
 }
-
-}  // namespace
 
 // SQP on   min_v 1/2 v^T A v - b^T v   s.t.  C(x0 + h v) >= 0   (paper 000, section 5):
 // each iteration linearises the rows at x_k = x0 + h v_k and solves the QP
@@ -290,10 +294,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         pgs += result.iterations;
         subspace_products += result.subspace_products;
       }
-      if (model.has_strain_limits) {
-        StageTimer rows_timer(profile, Stage::Rows);
-        add_strain_limit_curvatures(model, sc.x_iterate, s.rows);  // at the rows' point
-      }
       StageTimer timer(profile, Stage::SqpSolve);
       apply_jacobian_transpose(model, s.rows, sc.impulse);
       sc.correction.setZero(v_free.size());
@@ -321,7 +321,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     last_move = h * (v_next - v_free).lpNorm<Eigen::Infinity>();
     v_free = v_next;
     scatter_free(model, v_free, s.v);
-    update_curvature(model, s);
+    // The curvature of these rows, at their point, for the next factorisation (if any).
+    s.curvature_rows = s.rows;
+    s.curvature_point = sc.x_iterate;
+    s.curvature_pending = true;
 
     // Rows stay for the rest of the step once active, so the active set only grows.
     s.warm_start.clear();
@@ -339,6 +342,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     s.warm_start.clear();
     s.curvature.clear();
     s.curvature_blocks.clear();
+    s.curvature_pending = false;
   }
   for (int kind = 0; kind < kRowKindCount; ++kind)
     if (const int n = s.rows.count(static_cast<RowKind>(kind))) profile.rows[row_kind_name(static_cast<RowKind>(kind))] = n;

@@ -183,6 +183,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // own rows.
   state.curvature.clear();
   state.curvature_blocks.clear();
+  state.curvature_pending = false;
   // refactor_interval > 1: between factorisations the Newton directions come from
   // conjugate gradients on this H preconditioned with the last factorisation (a few solves
   // instead of a factorisation while H changes slowly), to pcg_tolerance; the constraint

@@ -11,6 +11,7 @@ namespace sinew {
 // serves every SQP iteration of the step (solve_constraints), so a step that keeps its
 // contacts and limits costs one factorisation, not one per iteration.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus) {
+  settle_curvature(model, state);
   state.factor_age = 0;
   // Kept G: columns of an earlier H, corrected for in solve_constraints. Only with CHOLMOD,
   // whose columns are exact for the H they came from; for delassus_reuse steps from the

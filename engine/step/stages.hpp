@@ -17,6 +17,9 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state);
 // The factorisation alone. H^-1 on the touched nodes (state.touched_inverse) is forgotten,
 // or kept as an approximation while solver.delassus_reuse allows and `may_keep_delassus`.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus = true);
+// state.curvature and curvature_blocks from the rows solve_constraints left pending
+// (state.curvature_pending); a no-op when none are. factorize_step_system calls it first.
+void settle_curvature(const Model& model, State& state);
 
 // 2-3 for scenes with hyperelastic bodies (paper 003): Newton on the incremental potential
 //    from the previous velocities; leaves system/rhs as the quadratic model at the result.
