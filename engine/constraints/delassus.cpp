@@ -1,5 +1,8 @@
 #include "engine/constraints/delassus.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace sinew {
 
 void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, const TouchedInverse& inverse) {
@@ -19,20 +22,23 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
   m_diagonal.resize(m);  // size() from here on
   const auto G = inverse.block();
   Eigen::Map<MatX> T = this->T();
-  T.setZero();
-  for (int i = 0; i < m; ++i) {
-    auto column = T.col(i);
-    for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) {
-      const int a = 3 * m_local[e];
-      const Vec3& j = m_jac[e];
-      column += G.col(a) * j[0] + G.col(a + 1) * j[1] + G.col(a + 2) * j[2];
+  // Column i of T and W_ii from row i alone: columns in parallel, each summed in the same
+  // order whatever the thread count. 24 x 3k flops per row, rebuilt at every SQP iteration
+  // (the rows' Jacobians move): about half of the pressed finger's sqp_solve on one thread.
+  tbb::parallel_for(tbb::blocked_range<int>(0, m, 32), [&](const tbb::blocked_range<int>& range) {
+    for (int i = range.begin(); i < range.end(); ++i) {
+      auto column = T.col(i);
+      column.setZero();
+      for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) {
+        const int a = 3 * m_local[e];
+        const Vec3& j = m_jac[e];
+        column += G.col(a) * j[0] + G.col(a + 1) * j[1] + G.col(a + 2) * j[2];
+      }
+      double d = 0;
+      for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) d += m_jac[e].dot(column.segment<3>(3 * m_local[e]));
+      m_diagonal[i] = d;
     }
-  }
-  for (int i = 0; i < m; ++i) {
-    double d = 0;
-    for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) d += m_jac[e].dot(T.col(i).segment<3>(3 * m_local[e]));
-    m_diagonal[i] = d;
-  }
+  });
   m_dense = false;
   if (m <= m_k3) {
     form_W_from_T(W());
