@@ -14,8 +14,8 @@
 // meets a bound (as MPRGP does, Dostal and Schoeberl 2005): each CG step lowers the LCP's
 // quadratic f(lambda) = 1/2 lambda^T W lambda + c^T lambda on the free rows, so the
 // truncated path ends feasible and lower.
-// With the free set right, one step lands on the solution: w_F = 0 and PGS's next sweep
-// meets its tolerance. W singular is no obstacle: for rows of a consistent solution -w_F
+// With the free set right and CG converged within its iterations, one step lands on the
+// solution: w_F = 0 and PGS's next sweep meets its tolerance. W singular is no obstacle: for rows of a consistent solution -w_F
 // lies in W_FF's range, and CG stops at a direction of (numerically) zero curvature.
 #include <algorithm>
 #include <vector>
@@ -37,12 +37,13 @@ struct SubspaceScratch {
   static constexpr int kVectors = 6;
 };
 
-// One subspace step on lambda (rows.lambda) for the operator W of solve_pgs, right after a
-// sweep (W.w(i) current). W must also provide multiply_rows(F, x, out): out_a =
-// sum_b W(F_a, F_b) x_b, at a cost of |F| columns, not m. Returns the products it took.
 // A CG direction p with p^T W p below this times p^T diag(W) p lies in W_FF's null space up
 // to round-off (W's entries carry relative errors near 1e-16 times its largest).
 constexpr double kNullCurvature = 1e-10;
+
+// One subspace step on lambda (rows.lambda) for the operator W of solve_pgs, right after a
+// sweep (W.w(i) current). W must also provide multiply_rows(F, x, out): out_a =
+// sum_b W(F_a, F_b) x_b, at a cost of |F| columns, not m. Returns the products it took.
 template <typename Operator>
 int subspace_step(Operator& W, RowTable& rows, Eigen::Map<VecX> lambda, int max_cg_iterations, SubspaceScratch& s) {
   const int m = rows.size();
