@@ -5,6 +5,7 @@
 #include <random>
 
 #include "engine/constraints/lcp_pgs.hpp"
+#include "tests/support/dense_decompositions.hpp"
 
 using namespace sinew;
 
@@ -148,7 +149,7 @@ TEST_CASE("a subspace step with the right free set lands on the LCP solution") {
   // follows from it, |lambda - lambda*| <= |W^-1| |w|.
   const VecX w = W * lambda + c;
   CHECK(reduced(w) <= kSubspaceCgReduction * before * (1 + 1e-9));
-  const double inverse_norm = 1 / Eigen::SelfAdjointEigenSolver<MatX>(W).eigenvalues().minCoeff();
+  const double inverse_norm = 1 / test::min_eigenvalue(W);
   CHECK((lambda - solution).norm() <= inverse_norm * w.norm() * (1 + 1e-9) + 1e-14 * solution.norm());
   for (int i = 0; i < 8; ++i) CHECK(lambda[i] > 0);
 }
@@ -202,7 +203,7 @@ TEST_CASE("PGS with subspace steps reaches the tolerance in fewer sweeps and pro
   // (w* = s >= 0, l*.s = 0): with d = l - l*,
   //   d^T W d = d^T (w - w*) = l.w - l.s - l*.w <= |l.w| + l*.max(-w, 0)
   // and |W d|^2 <= |W| d^T W d: W l is within sqrt(|W| gap) of W l*.
-  const double norm = Eigen::SelfAdjointEigenSolver<MatX>(W).eigenvalues().maxCoeff();
+  const double norm = test::max_eigenvalue(W);
   for (const RowTable* run : {&plain, &subspace}) {
     const Eigen::Map<const VecX> l(run->lambda.data(), m);
     const VecX w = W * l + c;

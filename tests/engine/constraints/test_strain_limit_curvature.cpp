@@ -12,6 +12,7 @@
 #include <random>
 
 #include "engine/constraints/strain_limit_curvature.hpp"
+#include "tests/support/dense_decompositions.hpp"
 
 using namespace sinew;
 
@@ -128,7 +129,7 @@ TEST_CASE("strain limit curvature: blocks are the positive part of -d2C/dF2 in x
         REQUIRE(blocks[r].allFinite());
         const double scale = std::max(blocks[r].norm(), 1e-300);
         CHECK((blocks[r] - blocks[r].transpose()).norm() <= 1e-12 * scale);
-        CHECK(Eigen::SelfAdjointEigenSolver<Mat12>(blocks[r]).eigenvalues().minCoeff() >= -1e-10 * scale);
+        CHECK(test::min_eigenvalue(blocks[r]) >= -1e-10 * scale);
         // Against a reference built without the code under test, where C is smooth (case 0:
         // stretches 0.1 apart): the positive part of -(second differences of the values),
         // mapped by B. Clamping eigenvalues is the projection onto the PSD cone, which moves
@@ -136,10 +137,10 @@ TEST_CASE("strain limit curvature: blocks are the positive part of -d2C/dF2 in x
         // the Hessians agree within 1e-5 relative (test above).
         if (mode == StrainLimitMode::Isotropic || c != 0) continue;
         const Mat9 H = second_differences(spec, cases[c], rows.row[r].index, 1e-4);
-        const Eigen::SelfAdjointEigenSolver<Mat9> eigen(-0.5 * (H + H.transpose()));
+        const test::SymmetricEigen eigen = test::symmetric_eigen(-0.5 * (H + H.transpose()));
         const Mat9 positive =
-            eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() * eigen.eigenvectors().transpose();
-        const double B2 = Eigen::JacobiSVD<Eigen::Matrix<double, 9, 12>>(B).singularValues()(0);
+            eigen.vectors * eigen.values.cwiseMax(0.0).asDiagonal() * eigen.vectors.transpose();
+        const double B2 = test::singular_values(B)(0);
         CHECK((blocks[r] - B.transpose() * positive * B).norm() <= B2 * B2 * 1e-5 * std::max(H.norm(), 1.0));
       }
     }
