@@ -56,7 +56,11 @@ TriangleBvh::TriangleBvh(std::vector<Vec3> vertices, std::vector<std::array<int,
   m_scene = rtcNewScene(m_device);
   // Refitting takes all three: a dynamic, two-level (LOW) scene whose geometry is built for
   // REFIT (without the dynamic flag Embree rebuilds: 16 ms instead of 1 ms for 86k triangles).
-  if (deforming) rtcSetSceneFlags(m_scene, RTC_SCENE_FLAG_DYNAMIC);
+  // A static BVH (surface picking's raycasts) is ROBUST: watertight ray tests, so that a ray
+  // passing within float round-off of a shared edge cannot slip between the two triangles and
+  // hit the far side (one of 200 rays at an ellipsoid did). The deforming BVHs of collision
+  // only answer point queries, which the flag does not change.
+  rtcSetSceneFlags(m_scene, deforming ? RTC_SCENE_FLAG_DYNAMIC : RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(m_scene, deforming ? RTC_BUILD_QUALITY_LOW : RTC_BUILD_QUALITY_HIGH);
   m_geometry = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
   rtcSetGeometryBuildQuality(m_geometry, deforming ? RTC_BUILD_QUALITY_REFIT : RTC_BUILD_QUALITY_HIGH);
