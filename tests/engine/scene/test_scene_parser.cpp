@@ -521,7 +521,7 @@ TEST_CASE("scene parser: region errors") {
   check_error(scene,
               "bodies[0].fixed[0].half_space.normal: expected a non-zero array of 3 numbers");
 
-  scene["bodies"][0]["fixed"] = {json::object()};
+  scene["bodies"][0]["fixed"] = json::array({json::object()});  // {json::object()} is the object itself for clang, an array of it for gcc
   check_error(scene,
               "bodies[0].fixed[0]: expected exactly one of 'box' or 'half_space', got neither");
 
