@@ -5,7 +5,7 @@
 # SLOW_TEST_FILES start first (ctest runs higher COST first): on a fresh clone ctest has no
 # timings, and a long test started last leaves the other core idle at the end.
 set(SPLIT_TEST_CASES "test_solve_newton.cpp=*preconditioned*")
-set(SLOW_TEST_FILES test_solve_newton.cpp test_paper003_scrambled_cube.cpp test_paper001_finger.cpp
+set(SLOW_TEST_FILES test_solve_newton.cpp test_paper003_scrambled_cube.cpp test_paper001_finger.cpp test_paper001_beam.cpp
     test_session.cpp test_closest_point.cpp test_strain_limit_curvature.cpp test_mesh_sdf.cpp)
 foreach(src ${TEST_SOURCES})
   file(RELATIVE_PATH rel ${CMAKE_CURRENT_SOURCE_DIR} ${src})
