@@ -98,6 +98,8 @@ int main(int argc, char** argv) {
   int warmup = 5, steps = 60, delassus_reuse = SolverDesc{}.delassus_reuse,
       refactor_interval = SolverDesc{}.refactor_interval;
   std::string out = "bench_hyperelastic.json";
+  std::string only_mesh, only_mode;  // empty: all
+  int only_threads = 0;              // 0: 1 and 2
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--steps" && i + 1 < argc) steps = std::stoi(argv[++i]);
@@ -105,15 +107,21 @@ int main(int argc, char** argv) {
     else if (arg == "--out" && i + 1 < argc) out = argv[++i];
     else if (arg == "--delassus-reuse" && i + 1 < argc) delassus_reuse = std::stoi(argv[++i]);
     else if (arg == "--refactor-interval" && i + 1 < argc) refactor_interval = std::stoi(argv[++i]);
+    else if (arg == "--mesh" && i + 1 < argc) only_mesh = argv[++i];
+    else if (arg == "--mode" && i + 1 < argc) only_mode = argv[++i];
+    else if (arg == "--threads" && i + 1 < argc) only_threads = std::stoi(argv[++i]);
     else {
       std::fprintf(stderr, "usage: sinew_bench_hyperelastic [--steps N] [--warmup N] [--delassus-reuse N] [--refactor-interval N]\n"
-                   "                                 [--out FILE]\n");
+                   "                                 [--mesh bunny_5|cube_20] [--mode one_newton_iteration|newton_converged_1e-6]\n"
+                   "                                 [--threads 1|2] [--out FILE]\n"
+                   "  --mesh, --mode, --threads run only that case (default: every mesh, mode and thread count)\n");
       return 2;
     }
   }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
                             {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"refactor_interval", refactor_interval}, {"runs", nlohmann::json::array()}};
   for (const MeshCase& mesh : kMeshes) {
+    if (!only_mesh.empty() && mesh.name != only_mesh) continue;
     const std::string base = std::string(SINEW_SOURCE_DIR) + "/../shared/meshes/tet/" + mesh.name;
     if (!std::filesystem::exists(base + ".node") || !std::filesystem::exists(base + ".ele")) {
       std::printf("%s: skipped (no %s.node/.ele)\n", mesh.name.c_str(), base.c_str());
@@ -121,7 +129,9 @@ int main(int argc, char** argv) {
     }
     for (const auto& [mode, iterations, tolerance] :
          {std::tuple{"one_newton_iteration", 1, 1e-6}, std::tuple{"newton_converged_1e-6", 50, 1e-6}}) {
+      if (!only_mode.empty() && only_mode != mode) continue;
       for (int threads : {1, 2}) {
+        if (only_threads && threads != only_threads) continue;
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         try {
           const SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse, refactor_interval);

@@ -1,7 +1,8 @@
 #include "engine/fem/hex8.hpp"
 
+#include "engine/math/rotation_variant_svd.hpp"
+
 #include <Eigen/LU>
-#include <Eigen/SVD>
 #include <cmath>
 
 namespace sinew {
@@ -57,13 +58,10 @@ Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity
 }
 
 Mat3 polar_rotation(const Mat3& F) {
-  Eigen::JacobiSVD<Mat3> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Mat3 U = svd.matrixU();
-  const Mat3 V = svd.matrixV();
-  // Reflections (inverted elements) are turned into rotations by flipping the axis of
-  // the smallest singular value, the closest rotation to F.
-  if ((U * V.transpose()).determinant() < 0) U.col(2) *= -1;
-  Mat3 R = U * V.transpose();
+  // With both factors rotations, U V^T is the closest rotation to F; a reflection in F
+  // (an inverted element) is left in S, the axis of the smallest singular value flipped.
+  const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+  Mat3 R = svd.U * svd.V.transpose();
   if (!R.allFinite()) R.setIdentity();
   return R;
 }

@@ -1,22 +1,132 @@
 #include "engine/math/rotation_variant_svd.hpp"
 
-#include <Eigen/SVD>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
 
 namespace sinew {
 
+namespace {
+
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
+// More sweeps than one-sided Jacobi ever needs on a 3x3 matrix (it converges quadratically:
+// 3-5 sweeps in double precision); the cap only guarantees termination.
+constexpr int kMaxSweeps = 12;
+
+// Columns of B = F V and of V as plain arrays: the rotations below form a chain of
+// dependent square roots and divisions, and Eigen's column blocks added about a quarter.
+struct JacobiColumns {
+  double b[3][3];
+  double v[3][3];
+};
+
+// (x, y) <- (c x - s y, s x + c y), entrywise.
+void rotate(double* x, double* y, double c, double s) {
+  for (int k = 0; k < 3; ++k) {
+    const double a = x[k], b = y[k];
+    x[k] = c * a - s * b;
+    y[k] = s * a + c * b;
+  }
+}
+
+// Rotates columns p and q of B (and of V alike) so that they become orthogonal, unless they
+// already are to working precision. Returns whether it rotated. B's entries are at most 1
+// in magnitude (F scaled), so the squares below neither overflow nor matter when they
+// underflow (a column below 1e-154 is zero to working precision).
+bool orthogonalize_pair(JacobiColumns& m, int p, int q) {
+  double* bp = m.b[p];
+  double* bq = m.b[q];
+  const double alpha = bp[0] * bp[0] + bp[1] * bp[1] + bp[2] * bp[2];
+  const double beta = bq[0] * bq[0] + bq[1] * bq[1] + bq[2] * bq[2];
+  const double gamma = bp[0] * bq[0] + bp[1] * bq[1] + bp[2] * bq[2];
+  // A zero column gives gamma = 0: nothing to do, and no division below.
+  if (gamma * gamma <= kEpsilon * kEpsilon * alpha * beta) return false;
+  // The rotation angle theta with tan(2 theta) = 2 gamma / (beta - alpha), |theta| <= pi/4:
+  // the smaller root t = tan(theta) of t^2 + 2 zeta t - 1 = 0.
+  const double zeta = (beta - alpha) / (2 * gamma);
+  const double t = std::abs(zeta) > 1e100 ? 0.5 / zeta
+                                          : std::copysign(1.0, zeta) / (std::abs(zeta) + std::sqrt(1 + zeta * zeta));
+  const double c = 1 / std::sqrt(1 + t * t), s = c * t;
+  rotate(bp, bq, c, s);
+  rotate(m.v[p], m.v[q], c, s);
+  return true;
+}
+
+void swap_columns(Mat3& B, Mat3& V, Vec3& norm, int i, int j) {
+  B.col(i).swap(B.col(j));
+  V.col(i).swap(V.col(j));
+  std::swap(norm(i), norm(j));
+}
+
+// A unit vector orthogonal to the unit vector u.
+Vec3 any_orthogonal(const Vec3& u) {
+  int smallest = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(u(k)) < std::abs(u(smallest))) smallest = k;
+  return u.cross(Vec3::Unit(smallest)).normalized();
+}
+
+}  // namespace
+
+// One-sided (Hestenes) Jacobi: plane rotations applied to the columns of F, accumulated in V,
+// until the columns of B = F V are mutually orthogonal; then B = U diag(S). It reaches the
+// singular values to a few ulps of the largest (Eigen's two-sided JacobiSVD did the same at
+// about six times the cost, which dominated the strain limits and the hyperelastic Hessians).
+// F is scaled by its largest entry first, so no square over- or underflows.
 RotationVariantSvd compute_rotation_variant_svd(const Mat3& F) {
-  const Eigen::JacobiSVD<Mat3> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  RotationVariantSvd r{svd.matrixU(), svd.singularValues(), svd.matrixV()};
-  // Eigen returns non-negative values sorted descending; move any reflection of U or V
-  // into the smallest value so that both become rotations (U S V^T is unchanged).
-  if (r.U.determinant() < 0) {
-    r.U.col(2) *= -1;
-    r.S(2) *= -1;
+  RotationVariantSvd r{Mat3::Identity(), Vec3::Zero(), Mat3::Identity()};
+  if (!F.allFinite()) {  // garbage in shows as NaN out, for the callers' NaN checks
+    r.S.setConstant(std::numeric_limits<double>::quiet_NaN());
+    return r;
   }
-  if (r.V.determinant() < 0) {
-    r.V.col(2) *= -1;
-    r.S(2) *= -1;
+  const double scale = F.cwiseAbs().maxCoeff();
+  if (scale == 0) return r;
+  JacobiColumns m;
+  const double inverse_scale = 1 / scale;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      m.b[j][i] = F(i, j) * inverse_scale;
+      m.v[j][i] = i == j ? 1.0 : 0.0;
+    }
+  for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
+    bool rotated = orthogonalize_pair(m, 0, 1);
+    rotated |= orthogonalize_pair(m, 0, 2);
+    rotated |= orthogonalize_pair(m, 1, 2);
+    if (!rotated) break;
   }
+  Mat3 B;
+  Mat3& V = r.V;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) {
+      B(i, j) = m.b[j][i];
+      V(i, j) = m.v[j][i];
+    }
+  // Columns by decreasing norm; a swap is a reflection of V, so an odd number of them is
+  // undone by negating the last column of V and of B (F V = B still holds).
+  Vec3 norm(B.col(0).norm(), B.col(1).norm(), B.col(2).norm());
+  bool odd = false;
+  if (norm(0) < norm(1)) swap_columns(B, V, norm, 0, 1), odd = !odd;
+  if (norm(0) < norm(2)) swap_columns(B, V, norm, 0, 2), odd = !odd;
+  if (norm(1) < norm(2)) swap_columns(B, V, norm, 1, 2), odd = !odd;
+  if (odd) {
+    V.col(2) = -V.col(2);
+    B.col(2) = -B.col(2);
+  }
+  // U's first two columns from B's, its third their cross product (so det U = +1); the
+  // third singular value is then B's last column along it, negative for a reflection.
+  // Columns too short to give a direction (rank-deficient F) take any orthogonal one: the
+  // singular value they would multiply is zero to working precision.
+  Mat3& U = r.U;
+  U.col(0) = B.col(0) / norm(0);  // norm(0) >= 1 after scaling
+  Vec3 u1 = B.col(1) - U.col(0).dot(B.col(1)) * U.col(0);
+  const double n1 = u1.norm();
+  U.col(1) = n1 > 1e-150 ? Vec3(u1 / n1) : any_orthogonal(U.col(0));
+  U.col(2) = U.col(0).cross(U.col(1));
+  const double s1 = n1 > 1e-150 ? norm(1) : 0.0;
+  const double s2 = U.col(2).dot(B.col(2));  // |s2| <= norm(2) <= s1 up to round-off: keep the order exact
+  r.S = scale * Vec3(norm(0), s1, std::copysign(std::min(std::abs(s2), s1), s2));
   return r;
 }
 

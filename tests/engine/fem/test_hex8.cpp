@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
+#include <random>
 
 #include "engine/fem/hex8.hpp"
 #include "tests/support/dense_decompositions.hpp"
@@ -141,5 +142,22 @@ TEST_CASE("polar rotation is a proper rotation even for inverted and degenerate 
     CHECK(R.allFinite());
     CHECK((R.transpose() * R - Mat3::Identity()).norm() < 1e-12);
     CHECK(R.determinant() == doctest::Approx(1.0));
+  }
+}
+
+TEST_CASE("polar rotation leaves a symmetric positive-definite stretch F = R S") {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.4, 0.4);
+  for (int i = 0; i < 200; ++i) {
+    Mat3 F = Mat3::Identity();
+    for (int k = 0; k < 9; ++k) F(k) += u(rng);
+    F = some_rotation() * F;
+    if (F.determinant() <= 0.05) continue;
+    const Mat3 S = polar_rotation(F).transpose() * F;
+    CHECK((S - S.transpose()).norm() <= 1e-13 * F.norm());
+    CHECK(S.determinant() > 0);
+    CHECK(S.trace() > 0);
+    CHECK((S.block<2, 2>(0, 0)).determinant() > 0);  // leading minors: S positive definite
+    CHECK(S(0, 0) > 0);
   }
 }

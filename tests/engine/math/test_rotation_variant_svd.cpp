@@ -1,8 +1,13 @@
 #include <doctest/doctest.h>
 
+#include <Eigen/Geometry>
+#include <array>
+#include <cmath>
+#include <limits>
 #include <random>
 
 #include "engine/math/rotation_variant_svd.hpp"
+#include "tests/support/dense_decompositions.hpp"
 
 using namespace sinew;
 
@@ -51,4 +56,71 @@ TEST_CASE("rotation-variant SVD of degenerate and repeated cases stays finite") 
   check_decomposition(-Mat3::Identity());                    // full inversion
   const RotationVariantSvd r = compute_rotation_variant_svd(reflection);
   CHECK(r.S(2) == doctest::Approx(-1));
+}
+
+namespace {
+
+Mat3 random_rotation(std::mt19937& rng) {
+  std::normal_distribution<double> n(0, 1);
+  Eigen::Quaterniond q;
+  q.w() = n(rng);
+  q.x() = n(rng);
+  q.y() = n(rng);
+  q.z() = n(rng);
+  return q.normalized().toRotationMatrix();
+}
+
+// |S| against an independent SVD (Eigen's two-sided Jacobi, tests/support): a backward-stable
+// SVD has singular values within a small multiple of eps |F| of the exact ones.
+void check_against_reference(const Mat3& F) {
+  const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+  const VecX reference = test::singular_values(F);
+  const double largest = std::max(reference(0), std::numeric_limits<double>::min());
+  for (int k = 0; k < 3; ++k) CHECK(std::abs(std::abs(svd.S(k)) - reference(k)) <= 1e-14 * largest);
+  CHECK((svd.U * svd.S.asDiagonal() * svd.V.transpose() - F).norm() <= 1e-14 * largest);
+  CHECK((svd.V.transpose() * svd.V - Mat3::Identity()).norm() <= 1e-14);
+}
+
+}  // namespace
+
+TEST_CASE("rotation-variant SVD agrees with a reference SVD, also near repeated and zero values") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int i = 0; i < 300; ++i) {
+    const Mat3 P = random_rotation(rng), Q = random_rotation(rng);
+    const double a = std::exp(3 * u(rng));
+    // Generic, two equal, two within 1e-13, all three equal, rank 2 and rank 1 spectra,
+    // with a reflection in half the cases.
+    const double sign = i % 2 ? -1 : 1;
+    const std::array<Vec3, 6> spectra = {Vec3(a, 1, 0.3 * a), Vec3(a, a, 0.5), Vec3(a, a * (1 + 1e-13), 1),
+                                         Vec3(a, a, a), Vec3(a, 0.7, 0), Vec3(a, 0, 0)};
+    for (const Vec3& s : spectra) {
+      const Mat3 F = P * Vec3(s(0), s(1), sign * s(2)).asDiagonal() * Q.transpose();
+      check_decomposition(F);
+      check_against_reference(F);
+    }
+  }
+}
+
+TEST_CASE("rotation-variant SVD is scale-invariant over the whole double range") {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (const double scale : {1e-300, 1e-150, 1e-20, 1e20, 1e150, 1e300}) {
+    Mat3 F;
+    for (int k = 0; k < 9; ++k) F(k) = u(rng);
+    const RotationVariantSvd unit = compute_rotation_variant_svd(F);
+    const RotationVariantSvd scaled = compute_rotation_variant_svd(scale * F);
+    REQUIRE(scaled.S.allFinite());
+    CHECK((scaled.S / scale - unit.S).norm() <= 1e-14 * unit.S.norm());
+    CHECK((scaled.U - unit.U).norm() <= 1e-12);
+    CHECK((scaled.V - unit.V).norm() <= 1e-12);
+  }
+}
+
+TEST_CASE("rotation-variant SVD of a non-finite matrix reports NaN singular values") {
+  Mat3 F = Mat3::Identity();
+  F(1, 2) = std::numeric_limits<double>::quiet_NaN();
+  CHECK_FALSE(compute_rotation_variant_svd(F).S.allFinite());
+  F(1, 2) = std::numeric_limits<double>::infinity();
+  CHECK_FALSE(compute_rotation_variant_svd(F).S.allFinite());
 }
