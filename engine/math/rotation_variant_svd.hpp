@@ -2,8 +2,10 @@
 // Rotation-variant SVD of a 3x3 matrix (Irving et al. 2004; paper 003, sec. 4.2;
 // paper 001, sec. 3): F = U diag(S) V^T with det U = det V = +1. A reflection in F shows as
 // a negative smallest singular value, S(2), instead of a reflection in U or V.
-// S is sorted by absolute value, largest first. Always finite for finite F, including
-// repeated and zero singular values (Eigen's two-sided Jacobi SVD underneath).
+// S is sorted by absolute value, largest first. Finite for every finite F whose largest
+// singular value is representable (up to about 1e308), including repeated, zero and subnormal
+// singular values; a NaN or Inf in F gives NaN singular values (U = V = I). One-sided Jacobi
+// underneath (rotation_variant_svd.cpp).
 #include <Eigen/LU>
 
 #include "engine/core/types.hpp"

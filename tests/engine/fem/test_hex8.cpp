@@ -145,6 +145,28 @@ TEST_CASE("polar rotation is a proper rotation even for inverted and degenerate 
   }
 }
 
+TEST_CASE("polar rotation of an inverted F: a proper rotation and a symmetric stretch with one negative value") {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-0.3, 0.3);
+  int inverted = 0;
+  for (int i = 0; i < 200; ++i) {
+    Mat3 F = Vec3(1, 1, -1).asDiagonal();  // a reflection, perturbed and rotated
+    for (int k = 0; k < 9; ++k) F(k) += u(rng);
+    F = some_rotation() * F;
+    if (F.determinant() >= -0.05) continue;
+    ++inverted;
+    const Mat3 R = polar_rotation(F);
+    CHECK(R.determinant() == doctest::Approx(1.0).epsilon(1e-12));
+    const Mat3 S = R.transpose() * F;
+    CHECK((S - S.transpose()).norm() <= 1e-13 * F.norm());
+    const VecX values = test::symmetric_eigenvalues(0.5 * (S + S.transpose()));  // ascending
+    CHECK(values(0) < 0);  // the reflection, along the axis of the smallest stretch
+    CHECK(values(1) > 0);
+    CHECK(std::abs(values(0)) <= values(1));
+  }
+  CHECK(inverted > 100);
+}
+
 TEST_CASE("polar rotation leaves a symmetric positive-definite stretch F = R S") {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-0.4, 0.4);

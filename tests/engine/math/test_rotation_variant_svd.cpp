@@ -105,13 +105,18 @@ TEST_CASE("rotation-variant SVD agrees with a reference SVD, also near repeated 
 TEST_CASE("rotation-variant SVD is scale-invariant over the whole double range") {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-2, 2);
-  for (const double scale : {1e-300, 1e-150, 1e-20, 1e20, 1e150, 1e300}) {
+  // Down to subnormal scales (below 1 / DBL_MAX ~ 5.6e-309 a reciprocal would overflow).
+  for (const double scale : {1e-312, 1e-300, 1e-150, 1e-20, 1e20, 1e150, 1e300}) {
     Mat3 F;
     for (int k = 0; k < 9; ++k) F(k) = u(rng);
     const RotationVariantSvd unit = compute_rotation_variant_svd(F);
     const RotationVariantSvd scaled = compute_rotation_variant_svd(scale * F);
     REQUIRE(scaled.S.allFinite());
-    CHECK((scaled.S / scale - unit.S).norm() <= 1e-14 * unit.S.norm());
+    // A subnormal scale * F is itself rounded to multiples of denorm_min: by Weyl's bound its
+    // singular values move by at most its Frobenius change, 3 denorm_min, relative to scale.
+    const double input_rounding = 3 * std::numeric_limits<double>::denorm_min() / scale;
+    CHECK((scaled.S / scale - unit.S).norm() <= 1e-14 * unit.S.norm() + 3 * input_rounding);
+    if (input_rounding > 1e-16) continue;  // U and V move by that over the gaps: not comparable
     CHECK((scaled.U - unit.U).norm() <= 1e-12);
     CHECK((scaled.V - unit.V).norm() <= 1e-12);
   }
@@ -121,6 +126,33 @@ TEST_CASE("rotation-variant SVD of a non-finite matrix reports NaN singular valu
   Mat3 F = Mat3::Identity();
   F(1, 2) = std::numeric_limits<double>::quiet_NaN();
   CHECK_FALSE(compute_rotation_variant_svd(F).S.allFinite());
+  CHECK(compute_rotation_variant_svd(F).U.allFinite());
+  CHECK(compute_rotation_variant_svd(F).V.allFinite());
   F(1, 2) = std::numeric_limits<double>::infinity();
   CHECK_FALSE(compute_rotation_variant_svd(F).S.allFinite());
+}
+
+TEST_CASE("rotation-variant SVD: the branches that random matrices rarely reach") {
+  // Nearly parallel columns of very different lengths: |zeta| > 1e100 in the rotation.
+  Mat3 F = Mat3::Zero();
+  F(0, 0) = 1;
+  F(0, 1) = F(1, 1) = 1e-110;
+  check_decomposition(F);
+  check_against_reference(F);
+  // Orthogonal columns out of order, one reflected: no rotation, an odd number of swaps.
+  check_decomposition(Vec3(1, -2, 3).asDiagonal());
+  check_against_reference(Vec3(1, -2, 3).asDiagonal());
+  // Exactly rank 1 along a non-axis direction: U's second column from any_orthogonal.
+  Mat3 line = Mat3::Zero();
+  line.col(0) = Vec3(1, 2, 3);
+  check_decomposition(line);
+  check_against_reference(line);
+  const RotationVariantSvd svd = compute_rotation_variant_svd(line);
+  CHECK(svd.S(1) == 0);
+  CHECK(svd.S(2) == 0);
+  // A subnormal matrix: finite, and its singular values exact up to rounding.
+  const RotationVariantSvd tiny = compute_rotation_variant_svd(1e-310 * Mat3::Identity());
+  REQUIRE(tiny.S.allFinite());
+  CHECK(tiny.S(0) == doctest::Approx(1e-310).epsilon(1e-12));
+  CHECK(std::abs(tiny.S(2)) == doctest::Approx(1e-310).epsilon(1e-12));
 }
