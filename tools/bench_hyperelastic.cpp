@@ -118,6 +118,16 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  // A case name that matches nothing would run nothing and write an empty result.
+  const bool known_mesh = only_mesh.empty() || std::any_of(kMeshes.begin(), kMeshes.end(), [&](const MeshCase& m) {
+                            return m.name == only_mesh;
+                          });
+  if (!known_mesh || !(only_mode.empty() || only_mode == "one_newton_iteration" || only_mode == "newton_converged_1e-6") ||
+      !(only_threads == 0 || only_threads == 1 || only_threads == 2)) {
+    std::fprintf(stderr, "sinew_bench_hyperelastic: --mesh must be bunny_5 or cube_20, --mode one_newton_iteration or "
+                         "newton_converged_1e-6, --threads 1 or 2\n");
+    return 2;
+  }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
                             {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"refactor_interval", refactor_interval}, {"runs", nlohmann::json::array()}};
   for (const MeshCase& mesh : kMeshes) {

@@ -60,10 +60,9 @@ Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity
 Mat3 polar_rotation(const Mat3& F) {
   // With both factors rotations, U V^T is the closest rotation to F; a reflection in F
   // (an inverted element) is left in S, the axis of the smallest singular value flipped.
+  // A non-finite F gives U = V = I, so R = I there.
   const RotationVariantSvd svd = compute_rotation_variant_svd(F);
-  Mat3 R = svd.U * svd.V.transpose();
-  if (!R.allFinite()) R.setIdentity();
-  return R;
+  return svd.U * svd.V.transpose();
 }
 
 Mat3 compute_hex8_rotation(const std::array<Vec3, 8>& x, double cell_size) {

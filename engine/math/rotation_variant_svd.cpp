@@ -63,14 +63,6 @@ void swap_columns(Mat3& B, Mat3& V, Vec3& norm, int i, int j) {
   std::swap(norm(i), norm(j));
 }
 
-// A unit vector orthogonal to the unit vector u.
-Vec3 any_orthogonal(const Vec3& u) {
-  int smallest = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(u(k)) < std::abs(u(smallest))) smallest = k;
-  return u.cross(Vec3::Unit(smallest)).normalized();
-}
-
 }  // namespace
 
 // One-sided (Hestenes) Jacobi: plane rotations applied to the columns of F, accumulated in V,
@@ -133,7 +125,7 @@ RotationVariantSvd compute_rotation_variant_svd(const Mat3& F) {
   U.col(0) = B.col(0) / norm(0);
   Vec3 u1 = B.col(1) - U.col(0).dot(B.col(1)) * U.col(0);
   const double n1 = u1.norm();
-  U.col(1) = n1 > 1e-150 ? Vec3(u1 / n1) : any_orthogonal(U.col(0));
+  U.col(1) = n1 > 1e-150 ? Vec3(u1 / n1) : Vec3(U.col(0).unitOrthogonal());
   U.col(2) = U.col(0).cross(U.col(1));
   const double s1 = n1 > 1e-150 ? norm(1) : 0.0;
   const double s2 = U.col(2).dot(B.col(2));  // |s2| <= norm(2) <= s1 up to round-off: keep the order exact
