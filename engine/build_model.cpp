@@ -334,6 +334,9 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
   for (int n = 0; n < model.num_nodes; ++n) model.rest_x.segment<3>(3 * n) = rest[n];
   for (int& f : model.free_index)
     if (f >= 0) f = model.num_free++;
+  std::vector<std::pair<int, int>> body_elements;
+  for (const Body& body : model.bodies) body_elements.emplace_back(body.element_offset, body.element_offset + body.num_elements());
+  model.element_schedule = schedule_elements(model.element_nodes, model.num_nodes, body_elements);
   model.pattern = build_system_pattern(model.element_nodes, model.free_index, model.num_free);
   return model;
 }

@@ -17,6 +17,7 @@ Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes);
 // hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm over the first n nodes: w B^T H B for one
 // point, without forming B.
 void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat24& hessian);
+void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat12& hessian);
 
 // +infinity when the material is undefined at some point (e.g. neo_hookean with J <= 0).
 double hyperelastic_element_energy(const Material& material, const ElementQuadrature& quad,
@@ -26,5 +27,11 @@ double hyperelastic_element_energy(const Material& material, const ElementQuadra
 // points' projected Hessians, which is positive semi-definite.
 double hyperelastic_element_derivatives(const Material& material, const ElementQuadrature& quad,
                                         const ElementNodes& nodes, Vec24& gradient, Mat24* hessian);
+
+// The same for a tet (quad.points 1, nodes.count 4, no mean dilatation) in 12 x 12: the same
+// sums in the same order, so the entries equal the padded version's bit for bit, without
+// zeroing and scattering a 24 x 24 matrix that is three-quarters padding.
+double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
+                                    const ElementNodes& nodes, Vec12& gradient, Mat12* hessian);
 
 }  // namespace sinew

@@ -43,16 +43,16 @@ SystemPattern build_system_pattern(const std::vector<std::array<int, 8>>& elemen
     return outer[3 * fj + d] + 3 * k;
   };
 
-  pattern.element_scatter.resize(element_nodes.size());
-  for (size_t e = 0; e < element_nodes.size(); ++e) {
-    auto& scatter = pattern.element_scatter[e];
-    for (int a = 0; a < 8; ++a)
-      for (int b = 0; b < 8; ++b)
+  pattern.scatter_begin.assign(1, 0);
+  for (const auto& nodes : element_nodes) {
+    const int count = static_cast<int>(std::count_if(nodes.begin(), nodes.end(), [](int node) { return node >= 0; }));
+    for (int a = 0; a < count; ++a)
+      for (int b = 0; b < count; ++b)
         for (int d = 0; d < 3; ++d) {
-          const int na = element_nodes[e][a], nb = element_nodes[e][b];
-          const int fa = na < 0 ? -1 : free_index[na], fb = nb < 0 ? -1 : free_index[nb];
-          scatter[(8 * a + b) * 3 + d] = (fa >= 0 && fb >= 0) ? position(fa, fb, d) : -1;
+          const int fa = free_index[nodes[a]], fb = free_index[nodes[b]];
+          pattern.element_scatter.push_back((fa >= 0 && fb >= 0) ? position(fa, fb, d) : -1);
         }
+    pattern.scatter_begin.push_back(static_cast<int>(pattern.element_scatter.size()));
   }
   pattern.diagonal.resize(n);
   for (int j = 0; j < num_free; ++j)

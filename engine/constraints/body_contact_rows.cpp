@@ -13,7 +13,7 @@ uint32_t body_partner(const Model& model, int b) { return static_cast<uint32_t>(
 
 namespace {
 
-struct Probe {
+struct SurfaceProbe {
   int vertex = 0;
   MeshDistance distance;
   Vec3 velocity;  // v_p - v_c
@@ -84,13 +84,13 @@ ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const
   thread_local std::vector<Aabb> bounds_storage;
   thread_local std::vector<char> refitted_storage;
   thread_local std::vector<int> candidates_storage;
-  thread_local std::vector<Probe> probes_storage;
+  thread_local std::vector<SurfaceProbe> probes_storage;
   thread_local RowStencil stencil_storage;
   std::vector<uint32_t>& first_vertex = first_vertex_storage;
   std::vector<Aabb>& bounds = bounds_storage;
   std::vector<char>& refitted = refitted_storage;
   std::vector<int>& candidates = candidates_storage;
-  std::vector<Probe>& probes = probes_storage;
+  std::vector<SurfaceProbe>& probes = probes_storage;
   RowStencil& stencil = stencil_storage;
   first_vertex.assign(nb + 1, 0);
   for (int b = 0; b < nb; ++b)
@@ -131,7 +131,7 @@ ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const
         }
       });
       result.candidates += static_cast<int>(probes.size());
-      for (const Probe& probe : probes) {
+      for (const SurfaceProbe& probe : probes) {
         if (probe.distance.triangle < 0) continue;
         const uint32_t id = first_vertex[a] + probe.vertex;
         const uint64_t key = contact_key(id, partner);

@@ -16,6 +16,9 @@ Model freeze_sleeping_bodies(const Model& model, const std::vector<char>& asleep
     frozen.free_index[n] = model.free_index[n] >= 0 && !asleep[model.node_body[n]] ? frozen.num_free++ : -1;
   for (std::vector<int>& color : frozen.element_colors)
     std::erase_if(color, [&](int e) { return asleep[model.element_body[e]]; });
+  // Blocks never span bodies (element_schedule.hpp): a sleeper's blocks go whole.
+  for (std::vector<ElementBlock>& color : frozen.element_schedule.colors)
+    std::erase_if(color, [&](const ElementBlock& block) { return asleep[model.element_body[block.first]]; });
   for (int e = 0; e < frozen.num_elements; ++e)
     if (asleep[model.element_body[e]]) frozen.element_Umax[e] = 0;
   frozen.has_hyperelastic = frozen.has_strain_limits = false;

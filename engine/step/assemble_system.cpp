@@ -32,10 +32,16 @@ void assemble_system(const Model& model, State& state) {
       for (size_t i = range.begin(); i != range.end(); ++i) {
         const int e = color[i];
         const Body& body = model.bodies[model.element_body[e]];
+        // Hyperelastic elements enter through solve_newton. Their R serves only an energy
+        // limit's curvature (R Ke R^T, solve_velocity); without a limit the polar
+        // decomposition (an SVD per element) is skipped.
+        if (body.hyperelastic && model.element_Umax[e] == 0) {
+          k_scale[e] = 0;
+          continue;
+        }
         const ElementNodes nodes = gather_element_nodes(model, state.x, e);
         const CorotatedElement c = compute_corotated_element(model, e, nodes);
         state.R[e] = c.R;
-        // Hyperelastic elements enter through solve_newton; R still serves energy limits.
         if (body.hyperelastic) {
           k_scale[e] = 0;
           continue;

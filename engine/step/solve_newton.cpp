@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/assembly/for_each_scheduled_element.hpp"
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/assembly/mean_dilatation_element.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
@@ -83,26 +84,34 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
   gradient.setZero(3 * model.num_free);
   energy.assign(model.num_elements, 0.0);
   force2.assign(model.num_elements, 0.0);
-  for (const std::vector<int>& color : model.element_colors) {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
-      Vec24 g;
-      Mat24 K;
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        const int e = color[i];
-        if (!is_hyperelastic(model, e)) continue;
-        const ElementNodes nodes = gather_element_nodes(model, x, e);
-        const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
-        const ElementQuadrature quad = element_quadrature(model, e);
-        energy[e] = values && exact ? exact_element_derivatives(material, quad, nodes, g, K)
-                                    : hyperelastic_element_derivatives(material, quad, nodes, g, values ? &K : nullptr);
-        force2[e] = g.squaredNorm();
-        for (int a = 0; a < nodes.count; ++a)
-          if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0)
-            gradient.segment<3>(3 * f) += g.segment<3>(3 * a);
-        if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
-      }
-    });
-  }
+  // g over the element's `count` nodes (a Vec24 is zero past them).
+  const auto add_gradient = [&](int e, int count, const auto& g) {
+    force2[e] = g.squaredNorm();
+    for (int a = 0; a < count; ++a)
+      if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) gradient.segment<3>(3 * f) += g.template segment<3>(3 * a);
+  };
+  for_each_scheduled_element(model.element_schedule, [&](int e) {
+    if (!is_hyperelastic(model, e)) return;
+    const ElementNodes nodes = gather_element_nodes(model, x, e);
+    const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
+    const ElementQuadrature quad = element_quadrature(model, e);
+    // Tets in 12 x 12 (hyperelastic_tet_derivatives), but for the exact Hessian, which the
+    // Newton iterations near convergence assemble through the generic path.
+    if (nodes.count == 4 && !quad.mean_dilatation && !(values && exact)) {
+      Vec12 g;
+      Mat12 K;
+      energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr);
+      add_gradient(e, 4, g);
+      if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
+      return;
+    }
+    Vec24 g;
+    Mat24 K;
+    energy[e] = values && exact ? exact_element_derivatives(material, quad, nodes, g, K)
+                                : hyperelastic_element_derivatives(material, quad, nodes, g, values ? &K : nullptr);
+    add_gradient(e, nodes.count, g);
+    if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
+  });
 }
 
 // Round-off of a change of Psi computed as sum_e (Psi_e(x') - Psi_e(x)): each energy
@@ -162,8 +171,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const VecX& b0 = scratch.newton_b0 = state.rhs;
   const double noise = energy_noise(model, scratch.body_stiffness);
   long hyperelastic_elements = 0;  // evaluated per assembly and per line-search trial (StepWork)
-  for (const std::vector<int>& color : model.element_colors)
-    for (int e : color) hyperelastic_elements += is_hyperelastic(model, e);
+  for (int e = 0; e < model.num_elements; ++e) hyperelastic_elements += is_hyperelastic(model, e);
   VecX &v = scratch.newton_v, &x = scratch.newton_x, &dPsi = scratch.dPsi, &gradient = scratch.gradient;
   VecX &quadratic_gradient = scratch.quadratic_gradient, &direction = scratch.direction, &trial = scratch.trial;
   VecX &A0_direction = scratch.A0_direction;

@@ -2,6 +2,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/model.hpp"
+#include "tests/engine/assembly/element_schedule_check.hpp"
 
 using namespace sinew;
 
@@ -43,6 +44,7 @@ TEST_CASE("build_model: masses, fixed nodes, offsets, colours and energy-limit r
     total += static_cast<int>(colour.size());
   }
   CHECK(total == m.num_elements);
+  check_element_schedule(m);
   // Energy limits: body a none, body b 2 J except the region (x < 0) at 0.5 J.
   for (int e = 0; e < m.num_elements; ++e) {
     if (m.element_body[e] == 0) {

@@ -8,6 +8,7 @@
 #include "engine/core/error.hpp"
 #include "engine/geometry/embedding.hpp"
 #include "engine/world.hpp"
+#include "tests/engine/assembly/element_schedule_check.hpp"
 
 using namespace sinew;
 namespace fs = std::filesystem;
@@ -24,6 +25,7 @@ void check_colours_share_no_node(const Model& m) {
     total += static_cast<int>(colour.size());
   }
   CHECK(total == m.num_elements);
+  check_element_schedule(m);
 }
 
 }  // namespace

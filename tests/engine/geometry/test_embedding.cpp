@@ -37,18 +37,18 @@ VecX flatten(const std::vector<Vec3>& nodes, int offset, double fill) {
   return x;
 }
 
-struct Sample {
+struct CellSamples {
   std::vector<Vec3> points;
   std::vector<int> cells;
   std::vector<Vec3> t;  // natural coordinates in the cell
 };
 
 // Random points strictly inside random cells: p = x_0 + h (1 + t) / 2, t in (-1, 1)^3.
-Sample sample_cells(const HexLattice& lat, int count, unsigned seed) {
+CellSamples sample_cells(const HexLattice& lat, int count, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_int_distribution<int> pick(0, int(lat.cells.size()) - 1);
   std::uniform_real_distribution<double> u(-0.999, 0.999);
-  Sample s;
+  CellSamples s;
   for (int i = 0; i < count; ++i) {
     const int c = pick(rng);
     const Vec3 t(u(rng), u(rng), u(rng));
@@ -64,7 +64,7 @@ Sample sample_cells(const HexLattice& lat, int count, unsigned seed) {
 TEST_CASE("embedding: cells, paper-order weights, partition of unity") {
   const HexLattice lat = capsule_lattice();
   REQUIRE(lat.cells.size() > 10);
-  const Sample s = sample_cells(lat, 2000, 11);
+  const CellSamples s = sample_cells(lat, 2000, 11);
   const Embedding emb = sinew::embed_points(lat, s.points);
   REQUIRE(emb.cell.size() == s.points.size());
   for (std::size_t i = 0; i < s.points.size(); ++i) {
@@ -84,7 +84,7 @@ TEST_CASE("embedding: cells, paper-order weights, partition of unity") {
 
 TEST_CASE("embedding: rest positions and affine deformations are reproduced exactly") {
   const HexLattice lat = capsule_lattice();
-  const Sample s = sample_cells(lat, 2000, 12);
+  const CellSamples s = sample_cells(lat, 2000, 12);
   const Embedding emb = sinew::embed_points(lat, s.points);
   const int offset = 5;  // other bodies' nodes come first in x
   std::vector<Vec3> out;
@@ -164,7 +164,7 @@ TEST_CASE("embedding: the fallback picks the nearest cell box") {
 
 TEST_CASE("embedding: results do not depend on the thread count") {
   const HexLattice lat = capsule_lattice();
-  const Sample s = sample_cells(lat, 200000, 13);
+  const CellSamples s = sample_cells(lat, 200000, 13);
   const Embedding emb = sinew::embed_points(lat, s.points);
   std::vector<Vec3> moved;
   for (const Vec3& x : lat.nodes) moved.push_back(x + 0.1 * Vec3(std::sin(7 * x.y()), x.x() * x.z(), std::cos(x.x())));

@@ -42,6 +42,14 @@ TEST_CASE("frozen model: a sleeping body's nodes are fixed, its elements and lim
       ++colored;
     }
   CHECK(colored == full.bodies[0].num_elements());
+  long scheduled = 0;
+  for (const auto& color : frozen.element_schedule.colors)
+    for (const ElementBlock& block : color)
+      for (int e = block.first; e < block.last; ++e) {
+        CHECK(frozen.element_body[e] == 0);
+        ++scheduled;
+      }
+  CHECK(scheduled == full.bodies[0].num_elements());
   CHECK_FALSE(frozen.has_hyperelastic);
   CHECK_FALSE(frozen.has_strain_limits);
   CHECK(frozen.pattern.matrix.rows() == 3 * frozen.num_free);
