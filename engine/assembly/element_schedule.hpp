@@ -1,12 +1,14 @@
 #pragma once
-// The order in which element loops that scatter into shared nodes run in parallel.
+// The order in which the hyperelastic assembly (solve_newton), an element loop that
+// scatters into shared nodes, runs in parallel. Stage 1 keeps Model::element_colors
+// (model.hpp says why).
 //
 // Elements are cut into blocks, runs of consecutive indices within one body, and the blocks
 // are coloured so that no two blocks of a colour share a node. A colour's blocks run in
 // parallel; each block's elements run in index order on one thread. Every node and matrix
 // entry then receives its contributions in a fixed order (colour, then element index),
 // whatever the thread count, so sums are bit-identical on 1 and 2 threads; and each thread
-// reads per-element data (node lists, reference gradients, the 768-byte scatter maps) in
+// reads per-element data (node lists, reference gradients, scatter maps) in
 // memory order. Colouring single elements instead scattered those reads: the bunny_5
 // Hessian assembly took 14 ms in colour order against 9 in index order on one thread.
 // for_each_scheduled_element.hpp runs the loop.
