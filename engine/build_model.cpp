@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <bitset>
 #include <cmath>
 #include <Eigen/Geometry>
 #include <Eigen/LU>
@@ -134,27 +133,6 @@ void split_into_tets(Body& body) {
   body.embedding = std::move(embedding);
 }
 
-// Greedy colouring of elements so that no two of a colour share a node (deterministic:
-// elements in order, each takes the lowest colour free at all its nodes).
-std::vector<std::vector<int>> color_elements(const std::vector<std::array<int, 8>>& cells, int num_nodes, int first) {
-  constexpr int kMaxColors = 256;
-  std::vector<std::bitset<kMaxColors>> used(num_nodes);
-  std::vector<std::vector<int>> colors;
-  for (size_t c = 0; c < cells.size(); ++c) {
-    std::bitset<kMaxColors> taken;
-    for (int n : cells[c])
-      if (n >= 0) taken |= used[n];
-    int k = 0;
-    while (k < kMaxColors && taken[k]) ++k;
-    if (k == kMaxColors) throw std::runtime_error("element colouring: a node is shared by too many elements");
-    for (int n : cells[c])
-      if (n >= 0) used[n].set(k);
-    if (k >= static_cast<int>(colors.size())) colors.resize(k + 1);
-    colors[k].push_back(first + static_cast<int>(c));
-  }
-  return colors;
-}
-
 std::shared_ptr<const Material> hyperelastic_material(const MaterialDesc& m) {
   if (!m.hyperelastic()) return nullptr;
   MaterialParameters params;
@@ -279,7 +257,12 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
         colors[(g[0] & 1) + 2 * (g[1] & 1) + 4 * (g[2] & 1)].push_back(model.num_elements + c);
       }
     } else {
-      colors = color_elements(body.lattice.cells, body.num_nodes(), model.num_elements);
+      // Greedy, element by element in index order: the schedule's colouring with blocks of one.
+      const ElementSchedule single = schedule_elements(model.element_nodes, model.num_nodes + body.num_nodes(),
+                                                       {{model.num_elements, model.num_elements + body.num_elements()}}, 1);
+      colors.assign(single.colors.size(), {});
+      for (size_t k = 0; k < single.colors.size(); ++k)
+        for (const ElementBlock& block : single.colors[k]) colors[k].push_back(block.first);
     }
     if (model.element_colors.size() < colors.size()) model.element_colors.resize(colors.size());
     for (size_t k = 0; k < colors.size(); ++k)

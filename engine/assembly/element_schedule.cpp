@@ -16,12 +16,12 @@ int elements_per_block(int count) { return std::clamp(count / 64, 4, 32); }
 }  // namespace
 
 ElementSchedule schedule_elements(const std::vector<std::array<int, 8>>& element_nodes, int num_nodes,
-                                  const std::vector<std::pair<int, int>>& bodies) {
+                                  const std::vector<std::pair<int, int>>& bodies, int block_size) {
   constexpr int kMaxColors = 256;
   std::vector<std::bitset<kMaxColors>> used(num_nodes);
   ElementSchedule schedule;
   for (const auto& [first, last] : bodies) {
-    const int size = elements_per_block(last - first);
+    const int size = block_size > 0 ? block_size : elements_per_block(last - first);
     for (int begin = first; begin < last; begin += size) {
       const ElementBlock block{begin, std::min(begin + size, last)};
       std::bitset<kMaxColors> taken;

@@ -25,18 +25,12 @@ struct ElementBlock {
 
 struct ElementSchedule {
   std::vector<std::vector<ElementBlock>> colors;  // blocks of a colour share no node
-  int element_count() const {
-    int count = 0;
-    for (const auto& color : colors)
-      for (const ElementBlock& block : color) count += block.last - block.first;
-    return count;
-  }
 };
 
-// Blocks of `elements_per_block(count)` elements (see the .cpp) within each body range [first, last)
-// of `bodies`, coloured greedily in index order (each block takes the lowest colour free at
+// Blocks of `block_size` elements (0: elements_per_block(count), see the .cpp) within each
+// body range [first, last) of `bodies`, coloured greedily in index order (each block takes the lowest colour free at
 // all its nodes). Throws std::runtime_error if a node would need more than 256 colours.
 ElementSchedule schedule_elements(const std::vector<std::array<int, 8>>& element_nodes, int num_nodes,
-                                  const std::vector<std::pair<int, int>>& bodies);
+                                  const std::vector<std::pair<int, int>>& bodies, int block_size = 0);
 
 }  // namespace sinew

@@ -56,11 +56,13 @@ double hyperelastic_element_energy(const Material& material, const ElementQuadra
   return energy;
 }
 
-double hyperelastic_element_derivatives(const Material& material, const ElementQuadrature& quad,
-                                        const ElementNodes& nodes, Vec24& gradient, Mat24* hessian) {
-  if (quad.mean_dilatation)
-    return mean_dilatation_element_derivatives(static_cast<const InvariantMaterial&>(material), quad, nodes,
-                                               false, gradient, hessian);
+namespace {
+
+// sum_q of the points' energies, gradients and projected Hessians over the first n nodes,
+// into a gradient and Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
+template <class Vector, class Matrix>
+double sum_over_points(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
+                       Vector& gradient, Matrix* hessian) {
   double energy = 0;
   gradient.setZero();
   if (hessian) hessian->setZero();
@@ -71,26 +73,26 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
     if (!material.is_defined(F)) energy = std::numeric_limits<double>::infinity();
     else energy += quad.weight * material.energy(F);
     const Mat3 P = material.pk1(F);
-    for (int a = 0; a < n; ++a) gradient.segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
+    for (int a = 0; a < n; ++a) gradient.template segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
     if (!hessian) continue;
     add_point_hessian(dN, n, material.projected_hessian(F), quad.weight, *hessian);
   }
   return energy;
 }
 
+}  // namespace
+
+double hyperelastic_element_derivatives(const Material& material, const ElementQuadrature& quad,
+                                        const ElementNodes& nodes, Vec24& gradient, Mat24* hessian) {
+  if (quad.mean_dilatation)
+    return mean_dilatation_element_derivatives(static_cast<const InvariantMaterial&>(material), quad, nodes,
+                                               false, gradient, hessian);
+  return sum_over_points(material, quad, nodes, gradient, hessian);
+}
+
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian) {
-  const Mat83& dN = quad.dN_dX[0];
-  const Mat3 F = deformation_gradient(dN, nodes);
-  const double energy =
-      material.is_defined(F) ? quad.weight * material.energy(F) : std::numeric_limits<double>::infinity();
-  const Mat3 P = material.pk1(F);
-  for (int a = 0; a < 4; ++a) gradient.segment<3>(3 * a) = quad.weight * (P * dN.row(a).transpose());
-  if (hessian) {
-    hessian->setZero();
-    add_point_hessian(dN, 4, material.projected_hessian(F), quad.weight, *hessian);
-  }
-  return energy;
+  return sum_over_points(material, quad, nodes, gradient, hessian);
 }
 
 }  // namespace sinew

@@ -28,8 +28,8 @@ double hyperelastic_element_energy(const Material& material, const ElementQuadra
 double hyperelastic_element_derivatives(const Material& material, const ElementQuadrature& quad,
                                         const ElementNodes& nodes, Vec24& gradient, Mat24* hessian);
 
-// The same for a tet (quad.points 1, nodes.count 4, no mean dilatation) in 12 x 12: the same
-// sums in the same order, so the entries equal the padded version's bit for bit, without
+// The same for a tet (nodes.count 4, no mean dilatation) in 12 x 12: the same code
+// (sum_over_points), so the entries equal the padded version's bit for bit, without
 // zeroing and scattering a 24 x 24 matrix that is three-quarters padding.
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian);
