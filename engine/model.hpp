@@ -102,8 +102,8 @@ struct Model {
   // The same guarantee by blocks of consecutive elements (element_schedule.hpp), read in
   // memory order: solve_newton's hyperelastic assembly. Stage 1 keeps element_colors: its
   // elements cost little (corotational, < 1 ms on the paper scenes) and reordering its sums
-  // changes round-off, on which the paper 001 scenes' unconverged SQP steps depend
-  // (ARCHITECTURE.md, "Open").
+  // changed round-off, on which the paper 001 scenes' unconverged SQP steps depended before
+  // the SQP's line search (ARCHITECTURE.md, "Determinism and threads").
   ElementSchedule element_schedule;
 
   SystemPattern pattern;                       // sparsity of the free-DOF system matrix

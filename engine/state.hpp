@@ -23,6 +23,8 @@ namespace sinew {
 struct StepScratch {
   VecX step_x0, step_v0, attempt_x0, attempt_v0;  // World: states to roll back to
   VecX x_iterate, v_free, v_base, v_next, dv, residual, step, correction, impulse;
+  VecX sqp_from, sqp_direction, sqp_feasible, sqp_product;  // SQP line search: v_k, its step, the last
+                                                            // iterate within tolerance, A v
   ScratchMatrix per_row;  // m x 3: the LCP's c, J (v_base - v_k) and PGS's residual weights
   std::vector<uint64_t> keep;
   // solve_newton's

@@ -163,6 +163,8 @@ struct SolverDesc {
   int sqp_max_iterations = 10;
   double sqp_tolerance = 1e-3;     // worst Ue/Umax - 1 accepted
   double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further
+  double sqp_stall_tolerance = 4e-5;  // m: also converged, within every row's tolerance, when the
+                                     // corrections stop shrinking and moved no node further (0: off)
   // Factorise the system every this many steps (1: every step, as the paper). In between
   // the last factorisation is reused: the SQP loop's Newton iterations still converge to
   // the same tolerances, at a fraction of the cost while rotations change slowly.

@@ -1,0 +1,57 @@
+#pragma once
+// The merit function of the SQP line search (solve_constraints.cpp): an l1 exact penalty
+//   phi(v) = f(v) - g^T (v - v_k) + sum_i mu_kind(i) violation_i(x0 + h v) / h
+// with f(v) = 1/2 v^T A v - b^T v the step's objective and g = J_f^T lambda_f the friction
+// impulse of the last QP, held fixed (friction has no potential; with its impulse frozen the
+// QP's step is still a descent direction of phi). violation is max(0, -C) for a unilateral
+// row, |C| for an attachment; friction rows have none. lambda is an impulse and C / h a
+// velocity, so each term is an energy like f. Once every mu exceeds its rows' |lambda| the
+// penalty is exact (a local minimiser of phi solves the constrained problem), and with H
+// positive definite the QP's step is a descent direction of phi.
+#include <array>
+#include <cmath>
+
+#include "engine/constraints/row_table.hpp"
+#include "engine/model.hpp"
+
+namespace sinew {
+
+struct SqpMerit {
+  std::array<double, kRowKindCount> weight{};  // mu per kind; only grows within a step
+
+  // Twice the largest |lambda| of each kind: exact with a margin, as the next QP's
+  // multipliers differ from these.
+  void raise_weights(const RowTable& rows) {
+    for (int i = 0; i < rows.size(); ++i)
+      if (rows.kind[i] != RowKind::Friction) {
+        double& mu = weight[static_cast<int>(rows.kind[i])];
+        mu = std::max(mu, 2 * std::abs(rows.lambda[i]));
+      }
+  }
+
+  // sum_i mu_i violation_i / h over the rows (C at their linearisation point). Rows not in
+  // the table are at least their activation margin inside their limits: no violation.
+  double penalty(const RowTable& rows, double h) const {
+    double sum = 0;
+    for (int i = 0; i < rows.size(); ++i) {
+      const RowKind kind = rows.kind[i];
+      if (kind == RowKind::Friction) continue;
+      const double violation = kind == RowKind::Attachment ? std::abs(rows.value[i]) : std::max(0.0, -rows.value[i]);
+      sum += weight[static_cast<int>(kind)] * violation;
+    }
+    return sum / h;
+  }
+};
+
+// g^T d = sum over friction rows of lambda_i J_i d (d on the free DOFs).
+inline double friction_work(const Model& model, const RowTable& rows, const VecX& d) {
+  double work = 0;
+  for (int i = 0; i < rows.size(); ++i) {
+    if (rows.kind[i] != RowKind::Friction) continue;
+    for (int k = rows.begin[i]; k < rows.begin[i + 1]; ++k)
+      if (const int f = model.free_index[rows.nodes[k]]; f >= 0) work += rows.lambda[i] * rows.jac[k].dot(d.segment<3>(3 * f));
+  }
+  return work;
+}
+
+}  // namespace sinew
