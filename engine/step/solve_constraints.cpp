@@ -206,16 +206,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   bool converged = false, approximate = false;  // approximate: the last W came from a kept G
   // Moves are h |dv|_inf of the correction taken (after the line search).
   double last_move = 1e300, previous_move = 1e300;
-  // Line search: the merit at v_k (sc.sqp_from), its predicted change over the step
-  // sc.sqp_direction, the friction work g^T d along it and the step length tried.
+  // Line search: the merit's weights, the last QP's step d = sc.sqp_direction from v_k =
+  // sc.sqp_from, and the step length tried.
   SqpMerit merit;
-  double merit_from = 0, merit_descent = 0, merit_friction = 0, alpha = 1;
+  MeritStep merit_step;
+  double alpha = 1;
   bool searching = false, have_feasible = false;
   int backtracks = 0, stalls_accepted = 0, restored = 0;
-  const auto objective = [&](const VecX& v) {
-    sc.sqp_product.noalias() = s.system * v;
-    return 0.5 * v.dot(sc.sqp_product) - s.rhs.dot(v);
-  };
+  sc.sqp_feasible.resize(v_free.size());  // sized here, not at the first step that needs it
   const auto rows_at_iterate = [&](int k) {
     StageTimer timer(profile, Stage::Rows);
     if (!constrained) {
@@ -229,11 +227,13 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     double worst = rows_at_iterate(k);
     // Armijo backtracking: halve the step until the merit falls by 1e-4 of the predicted
     // change, at most kBacktracks times (the last half is taken regardless). Every trial
-    // point's rows are built anyway, as the next QP's linearisation.
+    // point's rows are built anyway, as the next QP's linearisation. Moves below are the
+    // steps taken: a QP step whose halvings all fail moves 1/32 of itself, and within the
+    // tolerances that ends the step (the merit found nothing better along it).
     constexpr int kBacktracks = 5;
     for (int back = 0; searching; ++back) {
-      const double trial = objective(v_free) - alpha * merit_friction + merit.penalty(s.rows, h);
-      if (trial <= merit_from + 1e-4 * alpha * merit_descent || back == kBacktracks) break;
+      const double change = merit_step.change(alpha, merit.penalty(s.rows, h));
+      if (change <= 1e-4 * alpha * merit_step.predicted_change() || back == kBacktracks) break;
       alpha *= 0.5;
       v_free = sc.sqp_from + alpha * sc.sqp_direction;
       scatter_free(model, v_free, s.v);
@@ -261,8 +261,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       have_feasible = true;
     }
     if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp)) {
-      // The merit falls monotonically but weighs small violations lightly: its last iterate
-      // may be over a tolerance that an earlier one met (the tip-pressed finger).
+      // The merit weighs small violations lightly (and does not fall at every iteration: a
+      // last half is taken regardless, a non-descent step whole), so the last iterate may be
+      // over a tolerance that an earlier one met (the tip-pressed finger).
       if (worst > 1 && have_feasible) {
         v_free = sc.sqp_feasible;
         scatter_free(model, v_free, s.v);
@@ -351,17 +352,18 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       solver.solve(sc.impulse, sc.correction);
       v_next += sc.correction;
     }
-    // The merit at v_k (its rows are s.rows, whose values the QP left unchanged) with the
-    // weights raised for this QP's multipliers, and its predicted change over the step d:
-    // grad f^T d - g^T d - penalty (the linearised rows are met at v_k + d). Not a descent
-    // direction (an inexact LCP, an energy limit's Jacobian without dR/dx): full step.
+    // The merit along the step d from v_k (whose rows are s.rows, their values unchanged by
+    // the QP), with the weights raised for this QP's multipliers. Not a predicted descent
+    // (an inexact LCP; an energy limit's Jacobian without dR/dx; the first QP from v* when
+    // H is not A, as v_base = v* is then not H's Newton step): the step is taken whole.
     merit.raise_weights(s.rows);
     sc.sqp_direction = v_next - v_free;
-    const double penalty = merit.penalty(s.rows, h);
-    merit_friction = friction_work(model, s.rows, sc.sqp_direction);
-    merit_from = objective(v_free) + penalty;  // leaves A v_k in sc.sqp_product
-    merit_descent = (sc.sqp_product - s.rhs).dot(sc.sqp_direction) - merit_friction - penalty;
-    searching = merit_descent < 0;
+    sc.sqp_product.noalias() = s.system * v_free;
+    merit_step.slope = (sc.sqp_product - s.rhs).dot(sc.sqp_direction) - friction_work(model, s.rows, sc.sqp_direction);
+    sc.sqp_product.noalias() = s.system * sc.sqp_direction;
+    merit_step.curvature = sc.sqp_direction.dot(sc.sqp_product);
+    merit_step.penalty_from = merit.penalty(s.rows, h);
+    searching = merit_step.predicted_change() < 0;
     alpha = 1;
     sc.sqp_from = v_free;
     previous_move = last_move;
@@ -402,12 +404,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   if (sqp > 0 && cfg.pgs_subspace_interval > 0) profile.iterations["pgs_subspace_products"] += subspace_products;
   if (solved_columns) profile.iterations["solved_columns"] += solved_columns;
   if (refreshes) profile.iterations["delassus_refreshes"] += refreshes;
-  // Reported whenever SQP ran, 0 included (a name first met in a warm step would allocate).
-  if (sqp > 0) {
-    profile.iterations["sqp_backtracks"] += backtracks;
-    profile.iterations["sqp_stalls_accepted"] += stalls_accepted;
-    profile.iterations["sqp_restored"] += restored;
-  }
+  // Reported on every constrained step, 0 included: a name first met in a warm step would
+  // allocate (profile_map.hpp).
+  profile.iterations["sqp_backtracks"] += backtracks;
+  profile.iterations["sqp_stalls_accepted"] += stalls_accepted;
+  profile.iterations["sqp_restored"] += restored;
   // Not converged with a kept H^-1: the next factorisation recomputes it.
   if (sqp > 0 && !converged && s.touched_inverse.stale()) s.touched_inverse_step = s.step_count - cfg.delassus_reuse;
 }

@@ -8,6 +8,7 @@
 // velocity, so each term is an energy like f. Once every mu exceeds its rows' |lambda| the
 // penalty is exact (a local minimiser of phi solves the constrained problem), and with H
 // positive definite the QP's step is a descent direction of phi.
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -40,6 +41,23 @@ struct SqpMerit {
       sum += weight[static_cast<int>(kind)] * violation;
     }
     return sum / h;
+  }
+};
+
+// One QP step d from v_k, for the line search. f is quadratic, so its change along d is
+// exact from two numbers, without evaluating f (and its cancellation) at each trial point.
+struct MeritStep {
+  double slope = 0;         // (A v_k - b)^T d - g^T d: the objective's part, to first order
+  double curvature = 0;     // d^T A d
+  double penalty_from = 0;  // the penalty at v_k
+
+  // Over the full step, the linearised rows met at v_k + d: slope - penalty_from. A descent
+  // (< 0) whenever the LCP is solved, H is positive definite and every weight is at least
+  // its rows' |lambda| (then it is at most -d^T H d).
+  double predicted_change() const { return slope - penalty_from; }
+  // phi(v_k + alpha d) - phi(v_k), given the penalty at v_k + alpha d.
+  double change(double alpha, double penalty_at) const {
+    return alpha * slope + 0.5 * alpha * alpha * curvature + penalty_at - penalty_from;
   }
 };
 

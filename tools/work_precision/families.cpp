@@ -52,15 +52,20 @@ Sweep tolerance_sweep(const std::string& name, double SolverDesc::*field, std::v
 }
 
 // A constraint tolerance of the SQP loop. Its stopping test has a second half, the last
-// correction's largest node move (sqp_position_tolerance): alone, a looser row tolerance
-// changes nothing while that half still binds. So both move together, in the ratio of their
-// defaults (`metres_per_unit`: the position tolerance per unit of the row tolerance).
+// correction's largest node move (sqp_position_tolerance; sqp_stall_tolerance once the
+// corrections stop shrinking): alone, a looser row tolerance changes nothing while that half
+// still binds. So all move together, in the ratio of their defaults (`metres_per_unit`: the
+// position tolerance per unit of the row tolerance).
 Sweep sqp_tolerance_sweep(const std::string& name, double SolverDesc::*field, double metres_per_unit,
                           std::vector<double> values, std::vector<double> quick) {
   return make_sweep(name, std::move(values), std::move(quick),
                     [field, metres_per_unit](SceneDesc& s, double v) {
                       s.solver.*field = v;
                       s.solver.sqp_position_tolerance = metres_per_unit * v;
+                      // the stall tolerance keeps its default ratio to the position tolerance
+                      const SolverDesc defaults;
+                      s.solver.sqp_stall_tolerance =
+                          metres_per_unit * v * defaults.sqp_stall_tolerance / defaults.sqp_position_tolerance;
                     },
                     number_label);
 }
@@ -204,6 +209,7 @@ void make_reference(SceneDesc& scene, int h_divisor) {
   s.sqp_max_iterations = std::max(s.sqp_max_iterations, 50);
   s.sqp_tolerance = 1e-6;
   s.sqp_position_tolerance = 1e-8;
+  s.sqp_stall_tolerance = 0;  // no stalls accepted: converge to the tolerances above
   s.strain_tolerance = 1e-6;
   s.contact_tolerance = 1e-6;
   s.newton_tolerance = 1e-10;

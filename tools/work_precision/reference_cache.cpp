@@ -12,7 +12,7 @@ namespace sinew::wp {
 namespace {
 
 // Bump when the file layout or the meaning of a sample changes.
-constexpr uint32_t kFormatVersion = 1;
+constexpr uint32_t kFormatVersion = 2;  // 2: sqp_stall_tolerance in the fingerprint
 constexpr char kMagic[8] = {'S', 'W', 'P', 'R', 'E', 'F', '\n', '\0'};
 
 nlohmann::json vec3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
@@ -38,7 +38,8 @@ nlohmann::json run_fingerprint(const SceneDesc& scene, const std::string& scene_
       {"linear", s.linear}, {"pcg_tolerance", s.pcg_tolerance}, {"pcg_max_iterations", s.pcg_max_iterations},
       {"pgs_max_iterations", s.pgs_max_iterations}, {"pgs_tolerance", s.pgs_tolerance},
       {"sqp_max_iterations", s.sqp_max_iterations}, {"sqp_tolerance", s.sqp_tolerance},
-      {"sqp_position_tolerance", s.sqp_position_tolerance}, {"refactor_interval", s.refactor_interval},
+      {"sqp_position_tolerance", s.sqp_position_tolerance},
+      {"sqp_stall_tolerance", s.sqp_stall_tolerance}, {"refactor_interval", s.refactor_interval},
       {"activation_margin", s.activation_margin}, {"contact_tolerance", s.contact_tolerance},
       {"contact_margin", s.contact_margin}, {"body_friction", s.body_friction}, {"max_speed", s.max_speed},
       {"strain_tolerance", s.strain_tolerance}, {"strain_activation_margin", s.strain_activation_margin},

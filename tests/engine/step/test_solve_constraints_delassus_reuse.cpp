@@ -110,8 +110,9 @@ TEST_CASE("delassus_reuse: H^-1 kept across steps meets the same tolerances with
   // One factorisation's H^-1 serves up to 30 steps, less when SQP stalls on it.
   CHECK(reused.columns < fresh.columns / 3);
   // Both rest on the plane; they may differ by what each run's tolerances accept: the
-  // penetration (contact_tolerance) and, per step, the last SQP move.
-  const double sqp_move = solver.sqp_position_tolerance;
+  // penetration (contact_tolerance) and, per step, the last SQP move (up to the stall
+  // tolerance when a stall within tolerance ends the step).
+  const double sqp_move = std::max(solver.sqp_position_tolerance, solver.sqp_stall_tolerance);
   double farthest = 0;
   for (Eigen::Index n = 0; n < fresh.x.size() / 3; ++n)
     farthest = std::max(farthest, (fresh.x.segment<3>(3 * n) - reused.x.segment<3>(3 * n)).norm());

@@ -1,8 +1,8 @@
 // The SQP line search's merit function (engine/step/sqp_merit.hpp): its penalty counts each
 // row's violation by its kind (none for friction, |C| for attachments), its weights follow
-// the multipliers, and the friction work is lambda^T J d over friction rows only. With
-// linear constraints the merit's predicted change over a QP step is exact up to the
-// objective's curvature, and it is a descent when the weights exceed the multipliers.
+// the multipliers, and the friction work is lambda^T J d over friction rows only. Along a
+// QP step, MeritStep's change equals phi evaluated directly, and its predicted change is a
+// descent of at least d^T A d when the weights exceed the multipliers.
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
@@ -97,17 +97,30 @@ TEST_CASE("sqp merit: with linear constraints a QP step's predicted change is ex
 
   SqpMerit merit;
   merit.raise_weights(rows);
-  const auto f = [&](const Vec3& v) { return 0.5 * v.dot(A * v) - b.dot(v); };
-  const double penalty = merit.penalty(rows, h);
-  REQUIRE(penalty > 0);  // v_k violates rows 0 and 2
-  const double descent = (A * v_k - b).dot(d) - friction_work(model, rows, d) - penalty;
-  // At v_k + d every row holds (to PGS's 1e-14), so the penalty vanishes and the change of
-  // the merit is the objective's: the prediction plus the curvature term 1/2 d^T A d.
-  RowTable after;
-  for (int i = 0; i < 3; ++i) add_row(after, RowKind::Strain, c0[i] + h * g[i].dot(v_k + d), 0.0, g[i], Vec3::Zero());
-  CHECK(merit.penalty(after, h) <= 1e-10 * penalty);
-  const double change = f(v_k + d) + merit.penalty(after, h) - (f(v_k) + penalty);
-  CHECK(change == doctest::Approx(descent + 0.5 * d.dot(A * d)).epsilon(1e-9));
-  // Descent: with the weights above the multipliers, at most -d^T A d.
-  CHECK(descent <= -d.dot(A * d) * (1 - 1e-9));
+  MeritStep step;  // as solve_constraints fills it (no friction rows here)
+  step.slope = (A * v_k - b).dot(d) - friction_work(model, rows, d);
+  step.curvature = d.dot(A * d);
+  step.penalty_from = merit.penalty(rows, h);
+  REQUIRE(step.penalty_from > 0);  // v_k violates rows 0 and 2
+
+  // phi evaluated directly, f and the rows at v_k + alpha d.
+  const auto phi = [&](double alpha) {
+    const Vec3 v = v_k + alpha * d;
+    RowTable at;
+    for (int i = 0; i < 3; ++i) add_row(at, RowKind::Strain, c0[i] + h * g[i].dot(v), 0.0, g[i], Vec3::Zero());
+    return std::make_pair(0.5 * v.dot(A * v) - b.dot(v) + merit.penalty(at, h), merit.penalty(at, h));
+  };
+  const auto [phi_0, penalty_0] = phi(0);
+  CHECK(penalty_0 == step.penalty_from);
+  for (const double alpha : {1.0, 0.5, 0.125}) {
+    const auto [phi_alpha, penalty_alpha] = phi(alpha);
+    CHECK(step.change(alpha, penalty_alpha) == doctest::Approx(phi_alpha - phi_0).epsilon(1e-9));
+  }
+  // At v_k + d every row holds (to PGS's 1e-14): the penalty is gone, and the change is the
+  // prediction plus the curvature term.
+  const double penalty_1 = phi(1).second;
+  CHECK(penalty_1 <= 1e-10 * step.penalty_from);
+  CHECK(step.change(1, penalty_1) == doctest::Approx(step.predicted_change() + 0.5 * d.dot(A * d)).epsilon(1e-9));
+  // A descent of at least d^T A d: the weights (2 |lambda|) exceed the multipliers.
+  CHECK(step.predicted_change() <= -d.dot(A * d) * (1 - 1e-9));
 }
