@@ -58,11 +58,12 @@ double hyperelastic_element_energy(const Material& material, const ElementQuadra
 
 namespace {
 
-// sum_q of the points' energies, gradients and projected Hessians over the first n nodes,
-// into a gradient and Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
+// sum_q of the points' energies, gradients and projected Hessians (exact ones, with `exact`,
+// at points where the material is defined) over the first n nodes, into a gradient and
+// Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
 template <class Vector, class Matrix>
 double sum_over_points(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
-                       Vector& gradient, Matrix* hessian) {
+                       Vector& gradient, Matrix* hessian, bool exact = false) {
   double energy = 0;
   gradient.setZero();
   if (hessian) hessian->setZero();
@@ -70,12 +71,14 @@ double sum_over_points(const Material& material, const ElementQuadrature& quad, 
   for (int q = 0; q < quad.points; ++q) {
     const Mat83& dN = quad.dN_dX[q];
     const Mat3 F = deformation_gradient(dN, nodes);
-    if (!material.is_defined(F)) energy = std::numeric_limits<double>::infinity();
+    const bool defined = material.is_defined(F);
+    if (!defined) energy = std::numeric_limits<double>::infinity();
     else energy += quad.weight * material.energy(F);
     const Mat3 P = material.pk1(F);
     for (int a = 0; a < n; ++a) gradient.template segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
     if (!hessian) continue;
-    add_point_hessian(dN, n, material.projected_hessian(F), quad.weight, *hessian);
+    add_point_hessian(dN, n, exact && defined ? material.hessian(F) : material.projected_hessian(F), quad.weight,
+                      *hessian);
   }
   return energy;
 }
@@ -93,6 +96,11 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian) {
   return sum_over_points(material, quad, nodes, gradient, hessian);
+}
+
+double hyperelastic_tet_exact_derivatives(const Material& material, const ElementQuadrature& quad,
+                                          const ElementNodes& nodes, Vec12& gradient, Mat12& hessian) {
+  return sum_over_points(material, quad, nodes, gradient, &hessian, true);
 }
 
 }  // namespace sinew

@@ -34,4 +34,10 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian);
 
+// The same with the exact Hessian d2Psi/dF2 (not projected; Newton near convergence), or the
+// projected one where the material is undefined (J <= 0 for neo_hookean; the energy is then
+// +infinity).
+double hyperelastic_tet_exact_derivatives(const Material& material, const ElementQuadrature& quad,
+                                          const ElementNodes& nodes, Vec12& gradient, Mat12& hessian);
+
 }  // namespace sinew

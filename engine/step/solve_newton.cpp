@@ -95,12 +95,12 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     const ElementNodes nodes = gather_element_nodes(model, x, e);
     const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
     const ElementQuadrature quad = element_quadrature(model, e);
-    // Tets in 12 x 12 (hyperelastic_tet_derivatives), but for the exact Hessian, which the
-    // Newton iterations near convergence assemble through the generic path.
-    if (nodes.count == 4 && !quad.mean_dilatation && !(values && exact)) {
+    // Tets in 12 x 12, with the projected or (Newton near convergence) the exact Hessian.
+    if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
       Mat12 K;
-      energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr);
+      energy[e] = values && exact ? hyperelastic_tet_exact_derivatives(material, quad, nodes, g, K)
+                                  : hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr);
       add_gradient(e, 4, g);
       if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
       return;

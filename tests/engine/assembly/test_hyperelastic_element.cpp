@@ -187,3 +187,39 @@ TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit 
     REQUIRE(inverted > 0);  // the inverted branch was exercised
   }
 }
+
+TEST_CASE("hyperelastic tet, exact Hessian: w B^T d2Psi/dF2 B, or the projected one where the material is undefined") {
+  const TetFixture t;
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-0.06, 0.06);
+  for (const char* name : {"stable_neo_hookean", "neo_hookean"}) {
+    const auto material = make_material(name, {1e5, 0.45});
+    int inverted = 0, indefinite = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+      const ElementNodes nodes = t.nodes([&](const Vec3& X) { return Vec3(X + Vec3(u(rng), u(rng), u(rng))); });
+      const Mat3 F = deformation_gradient(t.dN, nodes);
+      Vec12 g, g_projected;
+      Mat12 K, K_projected;
+      const double energy = hyperelastic_tet_exact_derivatives(*material, t.quad, nodes, g, K);
+      const double energy_projected = hyperelastic_tet_derivatives(*material, t.quad, nodes, g_projected, &K_projected);
+      CHECK(((energy == energy_projected) || (std::isinf(energy) && std::isinf(energy_projected))));
+      CHECK(g == g_projected);
+      if (!material->is_defined(F)) {
+        ++inverted;
+        CHECK(K == K_projected);
+        continue;
+      }
+      // B(i + 3j, 3a + i) = dN_a,j: vec(F) = B x (column-major vec, material.hpp).
+      Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
+      for (int a = 0; a < 4; ++a)
+        for (int j = 0; j < 3; ++j)
+          for (int i = 0; i < 3; ++i) B(i + 3 * j, 3 * a + i) = t.dN(a, j);
+      const Mat12 expected = t.quad.weight * (B.transpose() * material->hessian(F) * B);
+      CHECK((K - expected).norm() <= 1e-12 * expected.norm());
+      indefinite += Eigen::SelfAdjointEigenSolver<Mat12>(K).eigenvalues().minCoeff() < -1e-9 * expected.norm();
+    }
+    MESSAGE(std::string(name) << ": " << inverted << " undefined, " << indefinite << " indefinite exact Hessians of 200");
+    if (std::string(name) == "neo_hookean") REQUIRE(inverted > 0);  // the fallback was exercised
+    REQUIRE(indefinite > 0);  // the exact Hessian is not the projected one
+  }
+}
