@@ -1,5 +1,6 @@
 #include "engine/assembly/hyperelastic_element.hpp"
 
+#include <cmath>
 #include <limits>
 
 #include "engine/assembly/mean_dilatation_element.hpp"
@@ -83,6 +84,15 @@ double sum_over_points(const Material& material, const ElementQuadrature& quad, 
   return energy;
 }
 
+// With the exact Hessian; where the energy is undefined at some point (inverted
+// neo_hookean), the projected one at every point, as there the exact one is not its Hessian.
+template <class Vector, class Matrix>
+double exact_sum_over_points(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
+                             Vector& gradient, Matrix& hessian) {
+  const double energy = sum_over_points(material, quad, nodes, gradient, &hessian, true);
+  return std::isfinite(energy) ? energy : sum_over_points(material, quad, nodes, gradient, &hessian);
+}
+
 }  // namespace
 
 double hyperelastic_element_derivatives(const Material& material, const ElementQuadrature& quad,
@@ -98,9 +108,21 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
   return sum_over_points(material, quad, nodes, gradient, hessian);
 }
 
+double hyperelastic_element_exact_derivatives(const Material& material, const ElementQuadrature& quad,
+                                              const ElementNodes& nodes, Vec24& gradient, Mat24& hessian) {
+  if (quad.mean_dilatation) {
+    const auto& invariant = static_cast<const InvariantMaterial&>(material);
+    const double energy = mean_dilatation_element_derivatives(invariant, quad, nodes, true, gradient, &hessian);
+    // Undefined energy (neo_hookean, Jbar <= 0): the projected Hessian, as above.
+    return std::isfinite(energy) ? energy
+                                 : mean_dilatation_element_derivatives(invariant, quad, nodes, false, gradient, &hessian);
+  }
+  return exact_sum_over_points(material, quad, nodes, gradient, hessian);
+}
+
 double hyperelastic_tet_exact_derivatives(const Material& material, const ElementQuadrature& quad,
                                           const ElementNodes& nodes, Vec12& gradient, Mat12& hessian) {
-  return sum_over_points(material, quad, nodes, gradient, &hessian, true);
+  return exact_sum_over_points(material, quad, nodes, gradient, hessian);
 }
 
 }  // namespace sinew

@@ -35,8 +35,10 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian);
 
 // The same with the exact Hessian d2Psi/dF2 (not projected; Newton near convergence), or the
-// projected one where the material is undefined (J <= 0 for neo_hookean; the energy is then
-// +infinity).
+// projected one where the material is undefined at some point (J <= 0 for neo_hookean; the
+// energy is then +infinity). Padded (mean dilatation too) and tet versions.
+double hyperelastic_element_exact_derivatives(const Material& material, const ElementQuadrature& quad,
+                                              const ElementNodes& nodes, Vec24& gradient, Mat24& hessian);
 double hyperelastic_tet_exact_derivatives(const Material& material, const ElementQuadrature& quad,
                                           const ElementNodes& nodes, Vec12& gradient, Mat12& hessian);
 

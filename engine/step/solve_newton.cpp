@@ -6,7 +6,6 @@
 
 #include "engine/assembly/for_each_scheduled_element.hpp"
 #include "engine/assembly/hyperelastic_element.hpp"
-#include "engine/assembly/mean_dilatation_element.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/step/stages.hpp"
 
@@ -43,39 +42,6 @@ void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double
   });
 }
 
-// Energy, gradient and exact (unprojected) Hessian of a hyperelastic element, for the
-// Newton iterations near the solution (see solve_newton); the projected Hessian where the
-// energy is undefined at some point (inverted neo_hookean), as there the exact one is not
-// its Hessian. Same sums as hyperelastic_element_derivatives (hyperelastic_element.hpp).
-double exact_element_derivatives(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
-                                 Vec24& g, Mat24& K) {
-  if (quad.mean_dilatation) {
-    const auto& invariant = static_cast<const InvariantMaterial&>(material);
-    const double energy = mean_dilatation_element_derivatives(invariant, quad, nodes, true, g, &K);
-    // Undefined energy (neo_hookean, Jbar <= 0): the projected Hessian, as below.
-    return std::isfinite(energy) ? energy : mean_dilatation_element_derivatives(invariant, quad, nodes, false, g, &K);
-  }
-  double energy = 0;
-  g.setZero();
-  K.setZero();
-  Eigen::Matrix<double, 9, 24> B;
-  for (int q = 0; q < quad.points; ++q) {
-    const Mat83& dN = quad.dN_dX[q];
-    Mat3 F = Mat3::Zero();
-    for (int a = 0; a < nodes.count; ++a) F += nodes.x[a] * dN.row(a);
-    if (!material.is_defined(F)) return hyperelastic_element_derivatives(material, quad, nodes, g, &K);
-    energy += quad.weight * material.energy(F);
-    const Mat3 P = material.pk1(F);
-    for (int a = 0; a < nodes.count; ++a) g.segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
-    B.setZero();
-    for (int a = 0; a < nodes.count; ++a)
-      for (int j = 0; j < 3; ++j)
-        for (int i = 0; i < 3; ++i) B(i + 3 * j, 3 * a + i) = dN(a, j);
-    K.noalias() += quad.weight * (B.transpose() * material.hessian(F) * B);
-  }
-  return energy;
-}
-
 // Per-element energies and squared force norms |dPsi_e/dx|^2, the gradient over free DOFs
 // (dPsi/dx, free nodes only) and, if `values` is not null, h^2 times the element Hessians
 // (projected, or exact if `exact`) scattered into a matrix of the system pattern.
@@ -107,7 +73,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     }
     Vec24 g;
     Mat24 K;
-    energy[e] = values && exact ? exact_element_derivatives(material, quad, nodes, g, K)
+    energy[e] = values && exact ? hyperelastic_element_exact_derivatives(material, quad, nodes, g, K)
                                 : hyperelastic_element_derivatives(material, quad, nodes, g, values ? &K : nullptr);
     add_gradient(e, nodes.count, g);
     if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
