@@ -136,7 +136,7 @@ StaticSolve static_hex_cantilever(const char* volume_term, double P) {
 }  // namespace
 
 // The exact path of solve_newton dispatches mean-dilatation elements to their own gradient
-// and exact Hessian (exact_element_derivatives). Were it to take the per-point ones instead,
+// and exact Hessian (hyperelastic_element_exact_derivatives). Were it to take the per-point ones instead,
 // the exact iterations would converge to the per-point element's equilibrium (tried: the
 // same deflection to 6 digits). Reference: the beam (L = 1 m from the clamp, 0.1 m square,
 // E = 1 MPa, I = 8.33e-6 m^4) under P = 5 N has P L^2 / (E I) = 0.6, for which the elastica
