@@ -25,6 +25,7 @@ struct StepScratch {
   VecX x_iterate, v_free, v_base, v_next, dv, residual, step, correction, impulse;
   VecX sqp_from, sqp_direction, sqp_feasible, sqp_product;  // SQP line search: v_k, its step, the last
                                                             // iterate within tolerance, A v
+  VecX sqp_previous_direction, sqp_previous_product;  // the last search direction p and A p (conjugate steps)
   ScratchMatrix per_row;  // m x 3: the LCP's c, J (v_base - v_k) and PGS's residual weights
   std::vector<uint64_t> keep;
   // solve_newton's

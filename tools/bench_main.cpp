@@ -101,8 +101,9 @@ int constrained_tets(const State& state) {
 }
 
 nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const std::string& linear,
-                           int delassus_reuse, int pgs_subspace) {
+                           int delassus_reuse, int pgs_subspace, const std::string& sqp_acceleration) {
   SceneDesc scene = bench.make();
+  if (!sqp_acceleration.empty()) scene.solver.sqp_acceleration = sqp_acceleration;
   if (!linear.empty()) scene.solver.linear = linear;
   if (delassus_reuse > 0) scene.solver.delassus_reuse = delassus_reuse;
   if (pgs_subspace >= 0) scene.solver.pgs_subspace_interval = pgs_subspace;
@@ -129,7 +130,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
   if (quantile(tets, 1.0) > 0) std::printf(", constrained tets median %.0f", quantile(tets, 0.5));
   std::printf("\n");
   return {{"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
-          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
+          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
           {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world.state().x.allFinite()},
           {"sleeping", bench.sleeping},
           {"stages", stages}};
@@ -138,7 +139,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string out = "bench_results.json", only, linear;
+  std::string out = "bench_results.json", only, linear, sqp_acceleration;
   int steps = 100, warmup = 10, threads = 0, delassus_reuse = 0, pgs_subspace = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -154,10 +155,17 @@ int main(int argc, char** argv) {
     else if (arg == "--linear") linear = next();
     else if (arg == "--delassus-reuse") delassus_reuse = std::stoi(next());
     else if (arg == "--pgs-subspace") pgs_subspace = std::stoi(next());
-    else {
+    else if (arg == "--sqp-acceleration") {
+      sqp_acceleration = next();
+      if (sqp_acceleration != "conjugate" && sqp_acceleration != "none") {
+        std::fprintf(stderr, "--sqp-acceleration expects conjugate or none, got '%s'\n", sqp_acceleration.c_str());
+        return 2;
+      }
+    } else {
       std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg]\n"
                   "                   [--delassus-reuse N (solver.delassus_reuse for every scene)]\n"
-                  "                   [--pgs-subspace N (solver.pgs_subspace_interval for every scene; 0: plain PGS)] [--out FILE]\n"
+                  "                   [--pgs-subspace N (solver.pgs_subspace_interval for every scene; 0: plain PGS)]\n"
+                  "                   [--sqp-acceleration conjugate|none (solver.sqp_acceleration for every scene)] [--out FILE]\n"
                   "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k, creature365, beam240tet, finger324,\n"
                   "        finger324flat, rest3boxes_awake, rest3boxes_asleep\n");
       return arg == "--help" ? 0 : 2;
@@ -171,7 +179,7 @@ int main(int argc, char** argv) {
   for (const BenchScene& bench : all_scenes()) {
     if (!only.empty() && bench.name != only) continue;
     try {
-      results["scenes"][bench.name] = bench_scene(bench, warmup, steps, linear, delassus_reuse, pgs_subspace);
+      results["scenes"][bench.name] = bench_scene(bench, warmup, steps, linear, delassus_reuse, pgs_subspace, sqp_acceleration);
     } catch (const std::exception& e) {
       std::printf("%-14s skipped: %s\n", bench.name.c_str(), e.what());
       results["scenes"][bench.name] = {{"skipped", e.what()}};

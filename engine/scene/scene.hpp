@@ -165,6 +165,10 @@ struct SolverDesc {
   double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further
   double sqp_stall_tolerance = 4e-5;  // m: also converged, within every row's tolerance, when the
                                      // corrections stop shrinking and moved no node further (0: off)
+  // With an earlier step's factorisation and rows without curvature: "conjugate" steps
+  // (each QP's step made A-conjugate to the last, taken to the Lagrangian's minimiser along
+  // it), or "none" (the QP's step as it is).
+  std::string sqp_acceleration = "conjugate";
   // Factorise the system every this many steps (1: every step, as the paper). In between
   // the last factorisation is reused: the SQP loop's Newton iterations still converge to
   // the same tolerances, at a fraction of the cost while rotations change slowly.

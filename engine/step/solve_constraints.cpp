@@ -58,6 +58,16 @@ double warm_lambda(const std::vector<std::pair<uint64_t, double>>& warm, uint64_
   return (it != warm.end() && it->first == key) ? it->second : 0.0;
 }
 
+// Whether the QP's rows are those of the last QP of this step (warm: its keys, sorted).
+bool same_rows_as_last_qp(const RowTable& rows, const std::vector<std::pair<uint64_t, double>>& warm) {
+  if (static_cast<size_t>(rows.size()) != warm.size()) return false;
+  for (int i = 0; i < rows.size(); ++i) {
+    const auto it = std::lower_bound(warm.begin(), warm.end(), std::make_pair(rows.key[i], -1e300));
+    if (it == warm.end() || it->first != rows.key[i]) return false;
+  }
+  return true;
+}
+
 void scatter_free(const Model& model, const VecX& free, VecX& full) {
   for (int n = 0; n < model.num_nodes; ++n) {
     const int f = model.free_index[n];
@@ -212,8 +222,15 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   MeritStep merit_step;
   double alpha = 1;
   bool searching = false, have_feasible = false;
-  int backtracks = 0, stalls_accepted = 0, restored = 0;
-  sc.sqp_feasible.resize(v_free.size());  // sized here, not at the first step that needs it
+  int backtracks = 0, stalls_accepted = 0, restored = 0, conjugate_steps = 0;
+  // Conjugate steps: whether the last QP left its direction and A times it in scratch.
+  bool conjugate_ready = false;
+  const bool conjugate_steps_on = cfg.sqp_acceleration == "conjugate";
+  double previous_curvature = 0;
+  // Sized here, not at the first step that needs them (a warm step allocates nothing).
+  sc.sqp_feasible.resize(v_free.size());
+  sc.sqp_previous_direction.resize(v_free.size());
+  sc.sqp_previous_product.resize(v_free.size());
   const auto rows_at_iterate = [&](int k) {
     StageTimer timer(profile, Stage::Rows);
     if (!constrained) {
@@ -302,6 +319,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       } else if (stalled) {
         if (!factorize_step_system(model, solver, s, false)) break;
         s.factor_exact = !s.factor_curved;
+        conjugate_ready = false;  // the last direction came from the old H
         ++refactorisations;
       }
     }
@@ -358,17 +376,68 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // H is not A, as v_base = v* is then not H's Newton step): the step is taken whole.
     merit.raise_weights(s.rows);
     sc.sqp_direction = v_next - v_free;
-    sc.sqp_product.noalias() = s.system * v_free;
-    merit_step.slope = (sc.sqp_product - s.rhs).dot(sc.sqp_direction) - friction_work(model, s.rows, sc.sqp_direction);
     sc.sqp_product.noalias() = s.system * sc.sqp_direction;
+    if (k == 0) {  // k > 0: sc.residual = b - A v_k already
+      sc.residual.noalias() = s.system * v_free;
+      sc.residual = s.rhs - sc.residual;
+    }
+    // With an exact factorisation and rows without curvature the QP's step is already the
+    // Lagrangian's minimiser (step length 1, nothing to conjugate against).
+    const bool accelerate = conjugate_steps_on && !s.factor_exact;
+    const bool rows_linear = std::all_of(s.rows.element.begin(), s.rows.element.end(), [](int e) { return e < 0; });
+    // d's slopes: of f, (A v_k - b)^T d, and of the Lagrangian f - lambda^T C, less
+    // (J^T lambda)^T d (sc.impulse is J^T lambda).
+    const auto slopes = [&](double& objective, double& lagrangian) {
+      objective = -sc.residual.dot(sc.sqp_direction);
+      lagrangian = objective - (m > 0 ? sc.impulse.dot(sc.sqp_direction) : 0.0);
+    };
+    double objective_slope, lagrangian_slope;
+    slopes(objective_slope, lagrangian_slope);
     merit_step.curvature = sc.sqp_direction.dot(sc.sqp_product);
+    alpha = accelerate ? MeritStep::first_trial(rows_linear, lagrangian_slope, merit_step.curvature) : 1.0;
+    bool conjugated = false;
+    if (accelerate && conjugate_ready && rows_linear && same_rows_as_last_qp(s.rows, s.warm_start)) {
+      // An earlier step's factorisation makes the QP steps a stationary iteration on the
+      // true QP (preconditioned by H), which converges linearly; with rows that stay the
+      // same and carry no curvature, the Lagrangian is a quadratic in A, and making the
+      // step A-conjugate to the last one turns that iteration into conjugate gradients,
+      // as PCG does with H as its preconditioner. Kept only when the step to the
+      // minimiser along it is in (0, 2), like the plain step.
+      const double beta = -sc.sqp_product.dot(sc.sqp_previous_direction) / previous_curvature;
+      sc.sqp_previous_direction = sc.sqp_direction + beta * sc.sqp_previous_direction;
+      sc.sqp_previous_product = sc.sqp_product + beta * sc.sqp_previous_product;
+      sc.sqp_direction.swap(sc.sqp_previous_direction);
+      sc.sqp_product.swap(sc.sqp_previous_product);
+      double conjugate_objective, conjugate_lagrangian;
+      slopes(conjugate_objective, conjugate_lagrangian);
+      const double curvature = sc.sqp_direction.dot(sc.sqp_product);
+      const double minimiser = curvature > 0 ? -conjugate_lagrangian / curvature : -1;
+      if (minimiser > 0 && minimiser < 2) {
+        conjugated = true;
+        objective_slope = conjugate_objective;
+        merit_step.curvature = curvature;
+        alpha = minimiser;
+      } else {  // back to the QP's own step
+        sc.sqp_direction.swap(sc.sqp_previous_direction);
+        sc.sqp_product.swap(sc.sqp_previous_product);
+      }
+    }
+    merit_step.slope = objective_slope - friction_work(model, s.rows, sc.sqp_direction);
     merit_step.penalty_from = merit.penalty(s.rows, h);
     searching = merit_step.predicted_change() < 0;
-    alpha = 1;
+    // This direction and A times it, for the next QP's conjugate step.
+    conjugate_ready = rows_linear && merit_step.curvature > 0;
+    if (conjugate_ready) {
+      sc.sqp_previous_direction = sc.sqp_direction;
+      sc.sqp_previous_product = sc.sqp_product;
+      previous_curvature = merit_step.curvature;
+    }
+    if (conjugated) ++conjugate_steps;
     sc.sqp_from = v_free;
     previous_move = last_move;
-    last_move = h * sc.sqp_direction.lpNorm<Eigen::Infinity>();
-    v_free = v_next;
+    last_move = alpha * h * sc.sqp_direction.lpNorm<Eigen::Infinity>();
+    if (alpha == 1 && !conjugated) v_free = v_next;
+    else v_free = sc.sqp_from + alpha * sc.sqp_direction;
     scatter_free(model, v_free, s.v);
 
     // Rows stay for the rest of the step once active, so the active set only grows.
@@ -409,6 +478,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   profile.iterations["sqp_backtracks"] += backtracks;
   profile.iterations["sqp_stalls_accepted"] += stalls_accepted;
   profile.iterations["sqp_restored"] += restored;
+  profile.iterations["sqp_conjugate_steps"] += conjugate_steps;
   // Not converged with a kept H^-1: the next factorisation recomputes it.
   if (sqp > 0 && !converged && s.touched_inverse.stale()) s.touched_inverse_step = s.step_count - cfg.delassus_reuse;
 }

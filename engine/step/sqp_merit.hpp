@@ -55,6 +55,18 @@ struct MeritStep {
   // (< 0) whenever the LCP is solved, H is positive definite and every weight is at least
   // its rows' |lambda| (then it is at most -d^T H d).
   double predicted_change() const { return slope - penalty_from; }
+  // The first step length to try. With rows that carry no curvature (contacts, friction,
+  // attachments) the Lagrangian L(v) = f(v) - lambda^T C is quadratic with Hessian A, and
+  // -lagrangian_slope / curvature is its exact minimiser along d. The QP steps with an
+  // earlier step's factorisation (H != A) overshoot A's stiffer modes: every correction
+  // ends about 1/0.75 past that minimiser (the resting creature), and the iteration
+  // shrinks them only 3x per QP. Starting there removes the overshoot; otherwise 1.
+  // Damping never moves the fixed point (d = 0 at a solution).
+  static double first_trial(bool rows_linear, double lagrangian_slope, double curvature) {
+    if (!rows_linear || !(curvature > 0)) return 1;
+    const double minimiser = -lagrangian_slope / curvature;
+    return minimiser > 0 && minimiser < 2 ? minimiser : 1;
+  }
   // phi(v_k + alpha d) - phi(v_k), given the penalty at v_k + alpha d.
   double change(double alpha, double penalty_at) const {
     return alpha * slope + 0.5 * alpha * alpha * curvature + penalty_at - penalty_from;
