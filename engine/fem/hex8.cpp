@@ -1,6 +1,5 @@
 #include "engine/fem/hex8.hpp"
 
-#include "engine/math/rotation_variant_svd.hpp"
 
 #include <Eigen/LU>
 #include <cmath>
@@ -55,14 +54,6 @@ Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity
   }
   ref.Ke = 0.5 * (ref.Ke + ref.Ke.transpose()).eval();
   return ref;
-}
-
-Mat3 polar_rotation(const Mat3& F) {
-  // With both factors rotations, U V^T is the closest rotation to F; a reflection in F
-  // (an inverted element) is left in S, the axis of the smallest singular value flipped.
-  // A non-finite F gives U = V = I, so R = I there.
-  const RotationVariantSvd svd = compute_rotation_variant_svd(F);
-  return svd.U * svd.V.transpose();
 }
 
 Mat3 compute_hex8_rotation(const std::array<Vec3, 8>& x, double cell_size) {

@@ -11,6 +11,7 @@
 
 #include "engine/core/types.hpp"
 #include "engine/fem/isotropic_elasticity.hpp"
+#include "engine/math/polar_rotation.hpp"
 
 namespace sinew {
 
@@ -45,9 +46,6 @@ Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity
 // tetrahedron of the cell (nodes 0, 3, 5, 6: the even-parity corners; paper 000, fig. 2,
 // after [NL08]). x holds the 8 deformed node positions; the rest tetrahedron is regular.
 Mat3 compute_hex8_rotation(const std::array<Vec3, 8>& x, double cell_size);
-
-// Rotation part of F (F = R S, det R = +1), robust for degenerate and inverted F.
-Mat3 polar_rotation(const Mat3& F);
 
 // Corotated displacement u = R^T x - X (24-vector, node-major).
 Vec24 hex8_corotated_displacement(const Mat3& R, const std::array<Vec3, 8>& x,

@@ -41,7 +41,7 @@ Mat6x12 tet4_strain_displacement(const Tet4Reference& ref);
 // F = Ds Dm^-1 with Ds = [x1-x0, x2-x0, x3-x0] (paper 001 eq. 3).
 Mat3 tet4_deformation_gradient(const Tet4Reference& ref, const std::array<Vec3, 4>& x);
 
-// Element rotation: polar_rotation(F) (hex8.hpp), F = R S with det R = +1 ([MG04]).
+// Element rotation: polar_rotation(F) (engine/math/polar_rotation.hpp), F = R S with det R = +1 ([MG04]).
 Mat3 compute_tet4_rotation(const Tet4Reference& ref, const std::array<Vec3, 4>& x);
 
 // Corotated displacement u = R^T x - X (12-vector, node-major).
