@@ -58,6 +58,12 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
   return m_cholmod.info() == Eigen::Success;
 }
 
+long LinearSolver::factor_entries() const {
+  const cholmod_factor* L = m_use_cholmod && m_analyzed ? m_cholmod.factor() : nullptr;
+  if (!L) return 0;
+  return static_cast<long>(L->is_super ? L->xsize : L->nzmax);
+}
+
 int LinearSolver::solve(const VecX& b, VecX& x) {
   ++m_solves;
   if (m_use_cholmod) {

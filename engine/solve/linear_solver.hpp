@@ -45,6 +45,9 @@ class LinearSolver {
   // Work counters since construction (StepWork): factorize() calls and right-hand sides solved.
   long factorizations() const { return m_factorizations; }
   long solves() const { return m_solves; }
+  // Entries stored in the CHOLMOD factor (0 without one): a solve costs about two
+  // multiply-adds per entry.
+  long factor_entries() const;
 
  private:
   bool m_pool = (install_cholmod_memory_pool(), true);  // before any CHOLMOD call
@@ -57,6 +60,7 @@ class LinearSolver {
   // Eigen's wrapper, with the factor exposed for solves from several threads at once.
   struct Cholmod : Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> {
     cholmod_factor* factor() { return m_cholmodFactor; }
+    const cholmod_factor* factor() const { return m_cholmodFactor; }
   };
   // A CHOLMOD workspace (its own cholmod_common and solve buffers, reused).
   struct SolveWorkspace {
