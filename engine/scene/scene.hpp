@@ -171,7 +171,8 @@ struct SolverDesc {
   std::string sqp_acceleration = "conjugate";
   // Factorise the system every this many steps (1: every step, as the paper). In between
   // the last factorisation is reused: the SQP loop's Newton iterations still converge to
-  // the same tolerances, at a fraction of the cost while rotations change slowly.
+  // the same tolerances, at a fraction of the cost while rotations change slowly; a step
+  // without SQP iterations keeps the one Newton step of the older H (docs/scenes.md).
   int refactor_interval = 1;
   // Keep H^-1 on the nodes constraint rows touch (touched_inverse.hpp) for up to this many
   // steps across refactorisations, topping it up with the current factor for nodes touched
