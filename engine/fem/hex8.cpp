@@ -1,6 +1,5 @@
 #include "engine/fem/hex8.hpp"
 
-
 #include <Eigen/LU>
 #include <cmath>
 

@@ -9,4 +9,10 @@ namespace sinew {
 
 Mat3 polar_rotation(const Mat3& F);
 
+// The Newton part alone: R = the polar factor of F, and true, when F is finite with
+// det F > 1e-3 of a rotation's at the same Frobenius norm (for singular values (1, 1, s):
+// s > ~5.4e-4; for (s, 1, 1): s < ~72) and the iteration converges; else false and R
+// untouched (polar_rotation then takes the SVD). For tests.
+bool newton_polar_rotation(const Mat3& F, Mat3& R);
+
 }  // namespace sinew

@@ -223,7 +223,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // sc.sqp_from, and the step length tried.
   SqpMerit merit;
   MeritStep merit_step;
-  double alpha = 1;
+  double alpha = 1, first_alpha = 1;  // the step length tried, and the first one tried
   bool searching = false, have_feasible = false;
   int backtracks = 0, stalls_accepted = 0, restored = 0, conjugate_steps = 0;
   // Conjugate steps: whether the last QP left its direction and A times it in scratch.
@@ -260,7 +260,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       worst = rows_at_iterate(k);
       ++backtracks;
     }
-    if (searching) last_move = alpha * h * sc.sqp_direction.lpNorm<Eigen::Infinity>();
+    if (searching) last_move = std::min(1.0, alpha / first_alpha) * h * sc.sqp_direction.lpNorm<Eigen::Infinity>();
     searching = false;
     if (k == 0 && s.factor_exact && (s.rows.size() == 0 || worst <= 1)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
@@ -332,7 +332,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // With the rows' columns Y = H^-1 J^T at hand, J H^-1 r = Y^T r needs no solve, and the
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken
     // when the m dot products cost less than the solve they save (two passes over L): the
-    // creature's 96 rows of 1950 DOFs against a supernodal factor of ~150k entries.
+    // creature's 96-99 rows of 1950 DOFs against a supernodal factor of 222k entries.
     const bool one_solve = k > 0 && per_row &&
                            static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
     if (k > 0) {
@@ -417,15 +417,20 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     double objective_slope, lagrangian_slope;
     slopes(objective_slope, lagrangian_slope);
     merit_step.curvature = sc.sqp_direction.dot(sc.sqp_product);
-    alpha = accelerate ? MeritStep::first_trial(rows_linear, lagrangian_slope, merit_step.curvature) : 1.0;
+    merit_step.slope = objective_slope - friction_work(model, s.rows, sc.sqp_direction);
+    merit_step.penalty_from = merit.penalty(s.rows, h);
+    merit_step.penalty_to = 0;
+    searching = merit_step.predicted_change() < 0;
+    // Only a predicted descent is damped or conjugated: other steps are taken whole, at 1.
+    alpha = accelerate && searching ? MeritStep::first_trial(rows_linear, lagrangian_slope, merit_step.curvature) : 1.0;
     bool conjugated = false;
-    if (accelerate && conjugate_ready && rows_linear && same_rows_as_last_qp(s.rows, s.warm_start)) {
+    if (accelerate && searching && conjugate_ready && rows_linear && same_rows_as_last_qp(s.rows, s.warm_start)) {
       // An earlier step's factorisation makes the QP steps a stationary iteration on the
       // true QP (preconditioned by H), which converges linearly; with rows that stay the
       // same and carry no curvature, the Lagrangian is a quadratic in A, and making the
       // step A-conjugate to the last one turns that iteration into conjugate gradients,
-      // as PCG does with H as its preconditioner. Kept only when the step to the
-      // minimiser along it is in (0, 2), like the plain step.
+      // as PCG does with H as its preconditioner. Kept only when it is a predicted descent
+      // and the step to the minimiser along it is in (0, 2), like the plain step.
       const double beta = -sc.sqp_product.dot(sc.sqp_previous_direction) / previous_curvature;
       sc.sqp_previous_direction = sc.sqp_direction + beta * sc.sqp_previous_direction;
       sc.sqp_previous_product = sc.sqp_product + beta * sc.sqp_previous_product;
@@ -434,20 +439,25 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       double conjugate_objective, conjugate_lagrangian;
       slopes(conjugate_objective, conjugate_lagrangian);
       const double curvature = sc.sqp_direction.dot(sc.sqp_product);
+      const double slope = conjugate_objective - friction_work(model, s.rows, sc.sqp_direction);
+      // p need not meet the linearised rows as the QP's step does: their penalty at
+      // v_k + p enters its predicted change.
+      auto jp = sc.per_row.view(m, 5).col(1);
+      jp.setZero();
+      add_jacobian_times(model, s.rows, sc.sqp_direction, jp);
+      const double penalty_to = merit.penalty_along(s.rows, jp, h);
       const double minimiser = curvature > 0 ? -conjugate_lagrangian / curvature : -1;
-      if (minimiser > 0 && minimiser < 2) {
+      if (slope + penalty_to - merit_step.penalty_from < 0 && minimiser > 0 && minimiser < 2) {
         conjugated = true;
-        objective_slope = conjugate_objective;
+        merit_step.slope = slope;
         merit_step.curvature = curvature;
+        merit_step.penalty_to = penalty_to;
         alpha = minimiser;
       } else {  // back to the QP's own step
         sc.sqp_direction.swap(sc.sqp_previous_direction);
         sc.sqp_product.swap(sc.sqp_previous_product);
       }
     }
-    merit_step.slope = objective_slope - friction_work(model, s.rows, sc.sqp_direction);
-    merit_step.penalty_from = merit.penalty(s.rows, h);
-    searching = merit_step.predicted_change() < 0;
     // This direction and A times it, for the next QP's conjugate step.
     conjugate_ready = rows_linear && merit_step.curvature > 0;
     if (conjugate_ready) {
@@ -458,7 +468,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     if (conjugated) ++conjugate_steps;
     sc.sqp_from = v_free;
     previous_move = last_move;
-    last_move = alpha * h * sc.sqp_direction.lpNorm<Eigen::Infinity>();
+    // The convergence and stall tests judge the step's own length (h |d|, at the first
+    // trial's scale), not the damping the minimiser chose; halvings still shorten it.
+    first_alpha = alpha;
+    last_move = h * sc.sqp_direction.lpNorm<Eigen::Infinity>();
     if (alpha == 1 && !conjugated) v_free = v_next;
     else v_free = sc.sqp_from + alpha * sc.sqp_direction;
     scatter_free(model, v_free, s.v);

@@ -42,6 +42,18 @@ struct SqpMerit {
     }
     return sum / h;
   }
+  // The same at the rows' linearisation moved by J d (jd[i] = J_i d): C_i + h J_i d.
+  double penalty_along(const RowTable& rows, const Eigen::Ref<const VecX>& jd, double h) const {
+    double sum = 0;
+    for (int i = 0; i < rows.size(); ++i) {
+      const RowKind kind = rows.kind[i];
+      if (kind == RowKind::Friction) continue;
+      const double value = rows.value[i] + h * jd[i];
+      const double violation = kind == RowKind::Attachment ? std::abs(value) : std::max(0.0, -value);
+      sum += weight[static_cast<int>(kind)] * violation;
+    }
+    return sum / h;
+  }
 };
 
 // One QP step d from v_k, for the line search. f is quadratic, so its change along d is
@@ -50,11 +62,14 @@ struct MeritStep {
   double slope = 0;         // (A v_k - b)^T d - g^T d: the objective's part, to first order
   double curvature = 0;     // d^T A d
   double penalty_from = 0;  // the penalty at v_k
+  double penalty_to = 0;    // the penalty of the linearised rows at v_k + d: 0 for the QP's own
+                            // step (the LCP meets them), not for a conjugated one
 
-  // Over the full step, the linearised rows met at v_k + d: slope - penalty_from. A descent
+  // Over the full step: slope + penalty_to - penalty_from (the linearised rows' penalty at
+  // v_k + d, 0 when the QP met them). A descent
   // (< 0) whenever the LCP is solved, H is positive definite and every weight is at least
   // its rows' |lambda| (then it is at most -d^T H d).
-  double predicted_change() const { return slope - penalty_from; }
+  double predicted_change() const { return slope + penalty_to - penalty_from; }
   // The first step length to try. With rows that carry no curvature (contacts, friction,
   // attachments) the Lagrangian L(v) = f(v) - lambda^T C is quadratic with Hessian A, and
   // -lagrangian_slope / curvature is its exact minimiser along d. The QP steps with an

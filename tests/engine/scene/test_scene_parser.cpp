@@ -376,6 +376,10 @@ TEST_CASE("scene parser: string and choice errors") {
   check_error(scene, "solver.linear: expected one of \"cholmod\", \"pcg\", got \"lu\"");
 
   scene = minimal_scene();
+  scene["solver"] = {{"sqp_acceleration", "anderson"}};
+  check_error(scene, "solver.sqp_acceleration: expected one of \"conjugate\", \"none\", got \"anderson\"");
+
+  scene = minimal_scene();
   scene["bodies"][0]["shape"][0]["type"] = "cube";
   check_error(scene, "bodies[0].shape[0].type: expected one of \"box\", \"sphere\", \"cylinder\", "
                      "\"capsule\", \"ellipsoid\", got \"cube\"");
