@@ -169,6 +169,9 @@ struct SolverDesc {
   // (each QP's step made A-conjugate to the last, taken to the Lagrangian's minimiser along
   // it), or "none" (the QP's step as it is).
   std::string sqp_acceleration = "conjugate";
+  // "shared": SQP iterations after the first take the Newton step and the correction in one
+  // solve where W came from the rows' own columns and that is cheaper; "separate": two.
+  std::string sqp_solves = "shared";
   // Factorise the system every this many steps (1: every step, as the paper). In between
   // the last factorisation is reused: the SQP loop's Newton iterations still converge to
   // the same tolerances, at a fraction of the cost while rotations change slowly; a step

@@ -333,7 +333,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken
     // when the m dot products cost less than the solve they save (two passes over L): the
     // creature's 96-99 rows of 1950 DOFs against a supernodal factor of 222k entries.
-    const bool one_solve = k > 0 && per_row &&
+    const bool one_solve = k > 0 && per_row && cfg.sqp_solves == "shared" &&
                            static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
     if (k > 0) {
       sc.residual.noalias() = s.system * v_free;

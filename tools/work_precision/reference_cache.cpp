@@ -12,7 +12,7 @@ namespace sinew::wp {
 namespace {
 
 // Bump when the file layout or the meaning of a sample changes.
-constexpr uint32_t kFormatVersion = 3;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration
+constexpr uint32_t kFormatVersion = 4;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration; 4: sqp_solves
 constexpr char kMagic[8] = {'S', 'W', 'P', 'R', 'E', 'F', '\n', '\0'};
 
 nlohmann::json vec3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
@@ -39,7 +39,7 @@ nlohmann::json run_fingerprint(const SceneDesc& scene, const std::string& scene_
       {"pgs_max_iterations", s.pgs_max_iterations}, {"pgs_tolerance", s.pgs_tolerance},
       {"sqp_max_iterations", s.sqp_max_iterations}, {"sqp_tolerance", s.sqp_tolerance},
       {"sqp_position_tolerance", s.sqp_position_tolerance},
-      {"sqp_stall_tolerance", s.sqp_stall_tolerance}, {"sqp_acceleration", s.sqp_acceleration},
+      {"sqp_stall_tolerance", s.sqp_stall_tolerance}, {"sqp_acceleration", s.sqp_acceleration}, {"sqp_solves", s.sqp_solves},
       {"refactor_interval", s.refactor_interval},
       {"activation_margin", s.activation_margin}, {"contact_tolerance", s.contact_tolerance},
       {"contact_margin", s.contact_margin}, {"body_friction", s.body_friction}, {"max_speed", s.max_speed},

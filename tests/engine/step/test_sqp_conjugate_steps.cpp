@@ -11,6 +11,7 @@
 
 #include "engine/step/sqp_merit.hpp"
 #include "tests/engine/step/contact_scenes.hpp"
+#include "tests/engine/step/lockstep.hpp"
 
 using namespace sinew;
 using namespace sinew::test;
@@ -55,14 +56,9 @@ TEST_CASE("sqp conjugate steps: the same steps of the creature converge to the s
     conjugate.mutable_state() = plain.state();
     REQUIRE(plain.step());
     REQUIRE(conjugate.step());
-    auto count = [](const World& w, const char* key) {
-      const auto& it = w.profile().iterations;
-      return it.count(key) ? it.at(key) : 0L;
-    };
-    auto factorised = [](const World& w) { return w.profile().skipped[static_cast<int>(Stage::Factorize)].empty(); };
+    const auto count = step_count_of;
     CHECK(count(plain, "sqp_conjugate_steps") == 0);
-    same_factor = (same_factor || (factorised(plain) && factorised(conjugate))) &&
-                  count(plain, "sqp_refactorisations") == 0 && count(conjugate, "sqp_refactorisations") == 0;
+    same_factor = same_factorisation(same_factor, plain, conjugate);
     conjugate_steps += count(conjugate, "sqp_conjugate_steps");
     // Elsewhere the copied state holds H^-1 columns of the other world's factorisation: a
     // state the engine never produces, so nothing is checked there.
@@ -79,9 +75,7 @@ TEST_CASE("sqp conjugate steps: the same steps of the creature converge to the s
     // step, passes the move test) without the bound below: compared only where neither did.
     if (count(plain, "sqp_backtracks") > 0 || count(conjugate, "sqp_backtracks") > 0) continue;
     ++compared_positions;
-    const VecX& a = plain.state().x;
-    const VecX& b = conjugate.state().x;
-    for (Eigen::Index n = 0; n < a.size() / 3; ++n) farthest = std::max(farthest, (a.segment<3>(3 * n) - b.segment<3>(3 * n)).norm());
+    farthest = std::max(farthest, farthest_node(plain.state().x, conjugate.state().x));
   }
   MESSAGE("over " << compared << " of " << steps << " steps (" << with_stale_factor << " with an older H): " << plain_sqp
                   << " QPs (none) vs " << conjugate_sqp << " (conjugate, " << conjugate_steps
