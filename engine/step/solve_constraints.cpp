@@ -229,6 +229,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // Conjugate steps: whether the last QP left its direction and A times it in scratch.
   bool conjugate_ready = false;
   const bool conjugate_steps_on = cfg.sqp_acceleration == "conjugate";
+  const bool shared_solves_on = cfg.sqp_solves == "shared";
   double previous_curvature = 0;
   // Sized here, not at the first step that needs them (a warm step allocates nothing).
   sc.sqp_feasible.resize(v_free.size());
@@ -333,7 +334,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken
     // when the m dot products cost less than the solve they save (two passes over L): the
     // creature's 96-99 rows of 1950 DOFs against a supernodal factor of 222k entries.
-    const bool one_solve = k > 0 && per_row && cfg.sqp_solves == "shared" &&
+    const bool one_solve = k > 0 && per_row && shared_solves_on &&
                            static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
     if (k > 0) {
       sc.residual.noalias() = s.system * v_free;

@@ -33,22 +33,21 @@ struct SqpMerit {
   // sum_i mu_i violation_i / h over the rows (C at their linearisation point). Rows not in
   // the table are at least their activation margin inside their limits: no violation.
   double penalty(const RowTable& rows, double h) const {
-    double sum = 0;
-    for (int i = 0; i < rows.size(); ++i) {
-      const RowKind kind = rows.kind[i];
-      if (kind == RowKind::Friction) continue;
-      const double violation = kind == RowKind::Attachment ? std::abs(rows.value[i]) : std::max(0.0, -rows.value[i]);
-      sum += weight[static_cast<int>(kind)] * violation;
-    }
-    return sum / h;
+    return penalty_shifted(rows, h, [](int) { return 0.0; });
   }
   // The same at the rows' linearisation moved by J d (jd[i] = J_i d): C_i + h J_i d.
   double penalty_along(const RowTable& rows, const Eigen::Ref<const VecX>& jd, double h) const {
+    return penalty_shifted(rows, h, [&](int i) { return h * jd[i]; });
+  }
+
+ private:
+  template <typename Shift>
+  double penalty_shifted(const RowTable& rows, double h, Shift shift) const {
     double sum = 0;
     for (int i = 0; i < rows.size(); ++i) {
       const RowKind kind = rows.kind[i];
       if (kind == RowKind::Friction) continue;
-      const double value = rows.value[i] + h * jd[i];
+      const double value = rows.value[i] + shift(i);
       const double violation = kind == RowKind::Attachment ? std::abs(value) : std::max(0.0, -value);
       sum += weight[static_cast<int>(kind)] * violation;
     }
