@@ -32,7 +32,6 @@ LinearSolver::SolveWorkspace::~SolveWorkspace() {
 LinearSolver::LinearSolver(const SolverDesc& desc)
     : m_use_cholmod(desc.linear != "pcg"),
       m_desc(desc),
-      m_wide(std::make_unique<SolveWorkspace>()),
       m_single(std::make_unique<SolveWorkspace>()) {
   m_pcg.setTolerance(desc.pcg_tolerance);
   m_pcg.setMaxIterations(desc.pcg_max_iterations);
@@ -51,6 +50,7 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
     // supernodes big enough for BLAS to win by orders of magnitude.
     m_cholmod.setMode(A.rows() < kSupernodalThreshold ? Eigen::CholmodLDLt : Eigen::CholmodSupernodalLLt);
     m_cholmod.analyzePattern(A);
+    m_block_solve = SupernodalBlockSolve{};  // a new symbolic factor, maybe at the same address
     m_analyzed = true;
   }
   limit_openmp();
@@ -121,8 +121,15 @@ void LinearSolver::solve_into(SolveWorkspace& ws, const double* columns, int row
     throw std::runtime_error("CHOLMOD solve failed (out of memory)");
 }
 
-void LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride) {
+const double* LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride, int width) {
+  const cholmod_factor* L = m_cholmod.factor();
+  if (L->is_super) {
+    if (ws.solution.rows() != ws.rows) ws.solution.resize(ws.rows, kSolveBlock);
+    m_block_solve.solve(*L, columns, stride, ws.solution.data(), ws.rows, width, ws.supernodal);
+    return ws.solution.data();
+  }
   solve_into(ws, columns, ws.rows, kSolveBlock, stride);
+  return static_cast<const double*>(ws.x->x);
 }
 
 void LinearSolver::prepare_block_workspaces(int rows) {
@@ -133,7 +140,8 @@ void LinearSolver::prepare_block_workspaces(int rows) {
     ws->rows = rows;
     if (ws->padded.rows() < rows) ws->padded.resize(rows, kSolveBlock);  // kept at the largest size
     ws->padded.topRows(rows).setZero();
-    solve_block(*ws, ws->padded.data(), static_cast<int>(ws->padded.rows()));  // sizes CHOLMOD's buffers
+    if (m_cholmod.factor()->is_super) m_block_solve.prepare(ws->supernodal);
+    else solve_block(*ws, ws->padded.data(), static_cast<int>(ws->padded.rows()), kSolveBlock);  // sizes CHOLMOD's buffers
   }
 }
 
@@ -143,17 +151,38 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
     cholmod_factor* L = m_cholmod.factor();
     const int n = static_cast<int>(B.rows());
     if (B.cols() == 0) return;
-    // A supernodal solve calls BLAS, and Debian's serial OpenBLAS is not safe to call from
-    // two threads at once (wrong results, measured): one call with every column, which
-    // BLAS-3 handles best anyway. A simplicial solve calls no BLAS: blocks in parallel.
-    if (L->is_super) {
-      SolveWorkspace& ws = *m_wide;
-      solve_into(ws, B.data(), n, static_cast<int>(B.cols()), static_cast<int>(B.outerStride()));
-      X = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, B.cols());
+    // CHOLMOD's supernodal solve calls BLAS, which Debian's serial OpenBLAS does not allow
+    // from two threads at once (wrong results, measured) and the pthread build serialises:
+    // supernodal blocks go through SupernodalBlockSolve, which calls neither.
+    if (L->is_super && B.cols() == 1) {
+      // One column: CHOLMOD's own solve (its BLAS-2 kernels beat the block loops at width 1).
+      SolveWorkspace& ws = *m_single;
+      solve_into(ws, B.data(), n, 1, n);
+      X = Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, 1);
       return;
     }
+    if (L->is_super && !m_block_solve.analysed_for(*L)) m_block_solve.analyse(*L);
     prepare_block_workspaces(n);
-    const int blocks = static_cast<int>((B.cols() + kSolveBlock - 1) / kSolveBlock);
+    const int count = static_cast<int>(B.cols());
+    // Supernodal: columns in the order of their first nonzero in the factor's order, so that
+    // a block's columns share elimination-tree paths and its forward pass skips more. The
+    // order depends on B alone: X is the same for any thread count.
+    std::vector<int>& order = m_column_order;
+    order.resize(count);
+    for (int c = 0; c < count; ++c) order[c] = c;
+    if (L->is_super) {
+      m_column_start.resize(count);
+      for (int c = 0; c < count; ++c) m_column_start[c] = m_block_solve.first_position(B.col(c).data());
+      // std::sort with the index as tie-break: the stable order without stable_sort's buffer.
+      std::sort(order.begin(), order.end(), [&](int a, int b) {
+        return m_column_start[a] != m_column_start[b] ? m_column_start[a] < m_column_start[b] : a < b;
+      });
+    }
+    // Supernodal blocks of up to kSolveBlock columns, and at least two blocks from two
+    // columns on, so that a few columns still keep two cores busy; the split depends on
+    // the count alone (bit-identical X for any thread count).
+    const int block_width = L->is_super ? std::clamp((count + 1) / 2, 1, kSolveBlock) : kSolveBlock;
+    const int blocks = (count + block_width - 1) / block_width;
     // Task k owns workspace k and solves blocks k, k + P, ...: no workspace is shared, whatever
     // thread (or arena slot) runs the task.
     const int tasks = std::min<int>(blocks, static_cast<int>(m_block_workspaces.size()));
@@ -161,17 +190,15 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
       SolveWorkspace& ws = *m_block_workspaces[task];
       const int stride = static_cast<int>(ws.padded.rows());
       for (int block = task; block < blocks; block += tasks) {
-        const int first = block * kSolveBlock;
-        const int width = std::min<int>(kSolveBlock, static_cast<int>(B.cols()) - first);
-        if (width == kSolveBlock) {
-          solve_block(ws, B.data() + static_cast<size_t>(first) * B.outerStride(), static_cast<int>(B.outerStride()));
-        } else {
-          ws.padded.topLeftCorner(n, width) = B.middleCols(first, width);
-          ws.padded.topRightCorner(n, kSolveBlock - width).setZero();
-          solve_block(ws, ws.padded.data(), stride);
-        }
-        X.middleCols(first, width) =
-            Eigen::Map<const MatX>(static_cast<const double*>(ws.x->x), n, kSolveBlock).leftCols(width);
+        const int first = block * block_width;
+        const int width = std::min<int>(block_width, count - first);
+        for (int j = 0; j < width; ++j) ws.padded.col(j).head(n) = B.col(order[first + j]);
+        if (width < kSolveBlock) ws.padded.topRightCorner(n, kSolveBlock - width).setZero();
+        // CHOLMOD solves every block kSolveBlock wide (its buffers keep their size); the
+        // supernodal solve takes a narrower last block as it is.
+        const int solved_width = L->is_super ? width : kSolveBlock;
+        const Eigen::Map<const MatX> solution(solve_block(ws, ws.padded.data(), stride, solved_width), n, kSolveBlock);
+        for (int j = 0; j < width; ++j) X.col(order[first + j]) = solution.col(j);
       }
     });
     return;

@@ -11,6 +11,7 @@
 #include "engine/core/types.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/solve/cholmod_memory_pool.hpp"
+#include "engine/solve/supernodal_block_solve.hpp"
 
 namespace sinew {
 
@@ -28,17 +29,18 @@ class LinearSolver {
   // until |b - A x| <= tolerance |b|. Returns the iterations, or -1 when max_iterations
   // were not enough or A showed no positive curvature along a search direction.
   int solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations);
-  // Solves A X = B column by column, into X of B's size. CHOLMOD, simplicial factor: blocks
-  // of kSolveBlock columns solved in parallel (one task per workspace, blocks dealt round
-  // robin), each block as wide whatever the thread count (X is bit-identical for any number
-  // of threads); supernodal factor: one call (BLAS-3) on the calling thread.
+  // Solves A X = B column by column, into X of B's size. CHOLMOD: blocks of kSolveBlock
+  // columns solved in parallel (one task per workspace, blocks dealt round robin), each
+  // block as wide whatever the thread count (X is bit-identical for any number of threads):
+  // simplicial factors by cholmod_solve2, supernodal ones by SupernodalBlockSolve (no BLAS
+  // call, no lock; zero parts of the block skipped in the forward pass).
   void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X);
   // The same, resizing X.
   void solve_many(const MatX& B, MatX& X) {
     X.resize(B.rows(), B.cols());
     solve_many(B, Eigen::Ref<MatX>(X));
   }
-  static constexpr int kSolveBlock = 16;
+  static constexpr int kSolveBlock = SupernodalBlockSolve::kMaxWidth;
   void reset_pattern() { m_analyzed = false; }
   bool uses_cholmod() const { return m_use_cholmod; }
   double last_residual() const { return m_last_residual; }
@@ -71,6 +73,8 @@ class LinearSolver {
     cholmod_common common;
     cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
     MatX padded;     // >= rows x kSolveBlock: a narrower block, zero-padded (its leading dimension)
+    MatX solution;   // rows x kSolveBlock: a supernodal block's X
+    SupernodalBlockSolve::Workspace supernodal;
     int rows = -1;   // the system size its buffers were made for
   };
   // One workspace per thread the arena may run, all made for the system's size before the
@@ -80,10 +84,13 @@ class LinearSolver {
   void prepare_block_workspaces(int rows);
   // cholmod_solve2 of `cols` columns (leading dimension `stride`) into ws's buffers.
   void solve_into(SolveWorkspace& ws, const double* columns, int rows, int cols, int stride);
-  void solve_block(SolveWorkspace& ws, const double* columns, int stride);
+  // X = A^-1 B for the first `width` of kSolveBlock columns (all of them for a simplicial
+  // factor); returns X (rows x kSolveBlock, leading dimension rows).
+  const double* solve_block(SolveWorkspace& ws, const double* columns, int stride, int width);
   Cholmod m_cholmod;
+  SupernodalBlockSolve m_block_solve;  // analysed for the current symbolic factor, or not yet
+  std::vector<int> m_column_order, m_column_start;  // solve_many's, kept
   std::vector<std::unique_ptr<SolveWorkspace>> m_block_workspaces;
-  std::unique_ptr<SolveWorkspace> m_wide;    // supernodal solve_many: every column in one call
   std::unique_ptr<SolveWorkspace> m_single;  // solve(): one column, its buffers kept
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper,
                            Eigen::DiagonalPreconditioner<double>>

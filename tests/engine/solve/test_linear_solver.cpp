@@ -1,8 +1,8 @@
-// LinearSolver's multi-column CHOLMOD solve (simplicial: blocks of columns on several
-// threads; supernodal: one call): the same solution as one column at a time, to round-off,
-// and the same bits on 1 and 2 threads. The supernodal case is what caught Debian's serial
-// OpenBLAS returning wrong solutions when two threads called it at once (it fails, not
-// always, if the supernodal path is made parallel).
+// LinearSolver's multi-column CHOLMOD solve (blocks of columns on several threads:
+// simplicial factors through cholmod_solve2, supernodal ones through SupernodalBlockSolve):
+// the same solution as one column at a time through CHOLMOD, to round-off, and the same bits
+// on 1 and 2 threads. The supernodal path once called CHOLMOD from two threads at once and
+// Debian's serial OpenBLAS returned wrong solutions; SupernodalBlockSolve calls no BLAS.
 #include <doctest/doctest.h>
 
 #include <tbb/global_control.h>
@@ -81,11 +81,77 @@ TEST_CASE("linear_solver: solve_many equals column-by-column solves, simplicial 
 }
 
 TEST_CASE("linear_solver: solve_many is bit-identical on 1 and 2 threads") {
-  const SparseMatrix A = grid_matrix(9);  // 729 unknowns: simplicial, solved in parallel blocks
-  const MatX B = random_columns(static_cast<int>(A.rows()), 3 * LinearSolver::kSolveBlock + 1);
-  const MatX one = solve_with_threads(A, B, 1);
-  const MatX two = solve_with_threads(A, B, 2);
-  CHECK(std::memcmp(one.data(), two.data(), sizeof(double) * one.size()) == 0);
+  // 729 unknowns: simplicial; 1331: supernodal. Column counts that make one block, two
+  // narrow ones and several full ones with a narrower last.
+  for (const int nx : {9, 11})
+    for (const int cols : {1, 5, 3 * LinearSolver::kSolveBlock + 1}) {
+      CAPTURE(nx);
+      CAPTURE(cols);
+      const SparseMatrix A = grid_matrix(nx);
+      const MatX B = random_columns(static_cast<int>(A.rows()), cols);
+      const MatX one = solve_with_threads(A, B, 1);
+      const MatX two = solve_with_threads(A, B, 2);
+      CHECK(std::memcmp(one.data(), two.data(), sizeof(double) * one.size()) == 0);
+    }
+}
+
+TEST_CASE("linear_solver: supernodal solve_many of unit columns (sparse right-hand sides)") {
+  // H^-1 on a few nodes (touched_inverse.hpp): unit-vector columns in any order, whose
+  // forward pass skips the supernodes off their elimination-tree paths. Each count is solved
+  // after a wider one on the same workspaces, so a narrower call must not read a wider one's
+  // leftovers.
+  const SparseMatrix A = grid_matrix(11);
+  const int n = static_cast<int>(A.rows());
+  LinearSolver solver(SolverDesc{});
+  REQUIRE(solver.factorize(A));
+  for (const int cols : {40, 17, 6, 2, 1}) {
+    CAPTURE(cols);
+    MatX B = MatX::Zero(n, cols);
+    for (int c = 0; c < cols; ++c) B((c * 7919 + 13) % n, c) = 1.0;
+    MatX X;
+    solver.solve_many(B, X);
+    for (int c = 0; c < cols; ++c) {
+      VecX x;
+      solver.solve(B.col(c), x);
+      // kappa(A) < 13: both solutions are within a few ulps times 13 of the exact one.
+      CHECK((X.col(c) - x).norm() <= 1e-12 * x.norm());
+    }
+    CHECK((A * X - B).norm() / B.norm() < 1e-12);
+  }
+}
+
+// The grid matrix with diagonal links in every x-y plane too, and a diagonal large enough to
+// keep it dominant: the same size, another sparsity pattern.
+SparseMatrix grid_matrix_with_diagonals(int nx) {
+  SparseMatrix A = grid_matrix(nx);
+  const auto index = [nx](int i, int j, int k) { return (k * nx + j) * nx + i; };
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int k = 0; k < nx; ++k)
+    for (int j = 0; j + 1 < nx; ++j)
+      for (int i = 0; i + 1 < nx; ++i) {
+        const int a = index(i, j, k), b = index(i + 1, j + 1, k);
+        entries.emplace_back(a, b, -0.5), entries.emplace_back(b, a, -0.5);
+      }
+  for (int a = 0; a < A.rows(); ++a) entries.emplace_back(a, a, 1.0);
+  SparseMatrix extra(A.rows(), A.cols());
+  extra.setFromTriplets(entries.begin(), entries.end());
+  return A + extra;
+}
+
+TEST_CASE("linear_solver: supernodal solve_many after a new symbolic analysis") {
+  // reset_pattern and another matrix (another size, then the same size with another
+  // pattern): the block solve reads the new factor's supernodes.
+  LinearSolver solver(SolverDesc{});
+  for (int trial = 0; trial < 3; ++trial) {
+    CAPTURE(trial);
+    const SparseMatrix A = trial == 0 ? grid_matrix(12) : trial == 1 ? grid_matrix(11) : grid_matrix_with_diagonals(11);
+    solver.reset_pattern();
+    REQUIRE(solver.factorize(A));
+    const MatX B = random_columns(static_cast<int>(A.rows()), 9);
+    MatX X;
+    solver.solve_many(B, X);
+    CHECK((A * X - B).norm() / B.norm() < 1e-12);
+  }
 }
 
 TEST_CASE("linear_solver: solve_many of no columns is an empty result") {

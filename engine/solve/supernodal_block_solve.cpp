@@ -1,0 +1,161 @@
+#include "engine/solve/supernodal_block_solve.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace sinew {
+
+namespace {
+
+// The passes work on rows of the block (one unknown, every right-hand side), W values each,
+// packed (row r at y + W r: a narrow block touches no more memory than it needs), through
+// fixed-size maps: Eigen vectorises them and, unlike
+// its dynamic-size GEMM and TRSM, never allocates blocking buffers (a warm step allocates
+// nothing). Supernode blocks are column-major (leading dimension `height`).
+constexpr int kMaxWidth = SupernodalBlockSolve::kMaxWidth;
+
+template <int W>
+using Row = Eigen::Map<Eigen::Matrix<double, 1, W>>;
+
+struct Supernode {
+  int first, columns, height;
+  const double* L;   // height x columns, column-major
+  const int* rows;   // its rows of L, the triangle's first
+};
+
+template <int W>
+void forward(const Supernode& s, double* y, const int* supernode_of, char* nonzero) {
+  const auto row = [y](int r) { return Row<W>(y + static_cast<size_t>(r) * W); };
+  // The triangle: y_k /= L_kk, then the rows below k within the triangle.
+  for (int k = 0; k < s.columns; ++k) {
+    const double* column = s.L + static_cast<size_t>(k) * s.height;
+    Row<W> yk = row(s.first + k);
+    yk *= 1.0 / column[k];
+    for (int r = k + 1; r < s.columns; ++r) row(s.first + r).noalias() -= column[r] * yk;
+  }
+  // The rows below the triangle, two columns of L at a time (half the passes over them).
+  int k = 0;
+  for (; k + 1 < s.columns; k += 2) {
+    const double* c0 = s.L + static_cast<size_t>(k) * s.height;
+    const double* c1 = c0 + s.height;
+    const Eigen::Matrix<double, 1, W> y0 = row(s.first + k), y1 = row(s.first + k + 1);
+    for (int r = s.columns; r < s.height; ++r) row(s.rows[r]).noalias() -= c0[r] * y0 + c1[r] * y1;
+  }
+  if (k < s.columns) {
+    const double* c0 = s.L + static_cast<size_t>(k) * s.height;
+    const Eigen::Matrix<double, 1, W> y0 = row(s.first + k);
+    for (int r = s.columns; r < s.height; ++r) row(s.rows[r]).noalias() -= c0[r] * y0;
+  }
+  for (int r = s.columns; r < s.height; ++r) nonzero[supernode_of[s.rows[r]]] = 1;
+}
+
+template <int W>
+void backward(const Supernode& s, double* y) {
+  const auto row = [y](int r) { return Row<W>(y + static_cast<size_t>(r) * W); };
+  // y_k -= sum over the rows below of L_rk y_r, two columns at a time.
+  int k = 0;
+  for (; k + 1 < s.columns; k += 2) {
+    const double* c0 = s.L + static_cast<size_t>(k) * s.height;
+    const double* c1 = c0 + s.height;
+    Eigen::Matrix<double, 1, W> a0 = Eigen::Matrix<double, 1, W>::Zero(), a1 = a0;
+    for (int r = s.columns; r < s.height; ++r) {
+      const Row<W> yr = row(s.rows[r]);
+      a0.noalias() += c0[r] * yr;
+      a1.noalias() += c1[r] * yr;
+    }
+    row(s.first + k) -= a0;
+    row(s.first + k + 1) -= a1;
+  }
+  if (k < s.columns) {
+    const double* c0 = s.L + static_cast<size_t>(k) * s.height;
+    Eigen::Matrix<double, 1, W> a0 = Eigen::Matrix<double, 1, W>::Zero();
+    for (int r = s.columns; r < s.height; ++r) a0.noalias() += c0[r] * row(s.rows[r]);
+    row(s.first + k) -= a0;
+  }
+  // The triangle, transposed: last unknown first.
+  for (int k = s.columns - 1; k >= 0; --k) {
+    const double* column = s.L + static_cast<size_t>(k) * s.height;
+    Row<W> yk = row(s.first + k);
+    for (int r = k + 1; r < s.columns; ++r) yk.noalias() -= column[r] * row(s.first + r);
+    yk *= 1.0 / column[k];
+  }
+}
+
+template <int W>
+void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, char* nonzero) {
+  const int nsuper = static_cast<int>(L.nsuper);
+  const int* super = static_cast<const int*>(L.super);
+  const int* pi = static_cast<const int*>(L.pi);
+  const int* px = static_cast<const int*>(L.px);
+  const int* rows = static_cast<const int*>(L.s);
+  const double* values = static_cast<const double*>(L.x);
+  const auto supernode = [&](int s) {
+    return Supernode{super[s], super[s + 1] - super[s], pi[s + 1] - pi[s], values + px[s], rows + pi[s]};
+  };
+  // Forward: L y = P b; a supernode the block has not reached is zero and is skipped.
+  for (int s = 0; s < nsuper; ++s)
+    if (nonzero[s]) forward<W>(supernode(s), y, supernode_of, nonzero);
+  // Backward: L^T z = y.
+  for (int s = nsuper - 1; s >= 0; --s) backward<W>(supernode(s), y);
+}
+
+}  // namespace
+
+void SupernodalBlockSolve::analyse(const cholmod_factor& L) {
+  if (!L.is_super || !L.is_ll || L.itype != CHOLMOD_INT || L.xtype != CHOLMOD_REAL)
+    throw std::logic_error("SupernodalBlockSolve: needs a real supernodal LL^T factor with int indices");
+  m_factor = &L;
+  m_n = static_cast<int>(L.n);
+  const int* super = static_cast<const int*>(L.super);
+  const int* perm = static_cast<const int*>(L.Perm);
+  m_supernode_of.assign(m_n, 0);
+  m_position.assign(m_n, 0);
+  for (int k = 0; k < m_n; ++k) m_position[perm[k]] = k;
+  for (int s = 0; s < static_cast<int>(L.nsuper); ++s)
+    for (int k = super[s]; k < super[s + 1]; ++k) m_supernode_of[k] = s;
+}
+
+void SupernodalBlockSolve::prepare(Workspace& ws) const {
+  ws.y.resize(static_cast<size_t>(m_n) * kMaxWidth);
+  ws.nonzero.resize(m_factor ? m_factor->nsuper : 0);
+}
+
+int SupernodalBlockSolve::first_position(const double* column) const {
+  int first = m_n;
+  for (int i = 0; i < m_n; ++i)
+    if (column[i] != 0) first = std::min(first, m_position[i]);
+  return first;
+}
+
+void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int ldb, double* X, int ldx, int width,
+                                 Workspace& ws) const {
+  if (width < 1 || width > kMaxWidth) throw std::logic_error("SupernodalBlockSolve: width out of range");
+  const int n = m_n;
+  const int* perm = static_cast<const int*>(L.Perm);
+  if (ws.y.size() != static_cast<size_t>(n) * kMaxWidth || ws.nonzero.size() != L.nsuper) prepare(ws);
+  // Kernels for 1, 2, 4, 8 and 16 columns; a narrower block is padded with zero columns.
+  const int padded = width <= 2 ? width : width <= 4 ? 4 : width <= 8 ? 8 : kMaxWidth;
+  double* y = ws.y.data();
+  std::fill(ws.nonzero.begin(), ws.nonzero.end(), 0);
+  // y = P b, row by row; a supernode holding a nonzero starts the forward pass there.
+  for (int k = 0; k < n; ++k) {
+    double* yk = y + static_cast<size_t>(k) * padded;
+    bool any = false;
+    for (int c = 0; c < width; ++c) {
+      yk[c] = B[static_cast<size_t>(c) * ldb + perm[k]];
+      any |= yk[c] != 0;
+    }
+    for (int c = width; c < padded; ++c) yk[c] = 0;
+    if (any) ws.nonzero[m_supernode_of[k]] = 1;
+  }
+  if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), ws.nonzero.data());
+  else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), ws.nonzero.data());
+  else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), ws.nonzero.data());
+  else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), ws.nonzero.data());
+  else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data());
+  // x = P^T z.
+  for (int k = 0; k < n; ++k)
+    for (int c = 0; c < width; ++c) X[static_cast<size_t>(c) * ldx + perm[k]] = y[static_cast<size_t>(k) * padded + c];
+}
+
+}  // namespace sinew

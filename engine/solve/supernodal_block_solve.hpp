@@ -1,0 +1,44 @@
+#pragma once
+// A = P^T L L^T P solved for a block of right-hand sides on CHOLMOD's supernodal factor, by
+// loops over its supernodes' dense blocks instead of CHOLMOD's BLAS calls. Debian's serial
+// OpenBLAS may not be called from two threads at once, and its pthread build serialises
+// concurrent calls on a lock (measured: two threads no faster than one), so blocks of
+// columns run in parallel only through code that calls no BLAS. The forward pass skips
+// supernodes where the whole block is still zero: H^-1 on a few nodes (touched_inverse.hpp)
+// has unit-vector columns, whose forward solve reaches only their elimination-tree paths.
+#include <cholmod.h>
+
+#include <vector>
+
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+class SupernodalBlockSolve {
+ public:
+  static constexpr int kMaxWidth = 16;  // columns per block at most
+
+  // Per-thread buffers, sized by prepare(): a warm solve allocates nothing.
+  struct Workspace {
+    std::vector<double> y;      // n rows of kMaxWidth values: the block in the factor's order
+    std::vector<char> nonzero;  // per supernode: the forward pass reached it
+  };
+
+  // Reads L's supernode structure (once per symbolic analysis; L supernodal LL^T, int indices).
+  void analyse(const cholmod_factor& L);
+  bool analysed_for(const cholmod_factor& L) const { return m_factor == &L && m_n == static_cast<int>(L.n); }
+  void prepare(Workspace& ws) const;
+  // The first position, in the factor's order, of a nonzero of `column` (n values); n if none.
+  int first_position(const double* column) const;
+  // X = A^-1 B for `width` <= kMaxWidth columns (column-major, leading dimensions ldb and ldx).
+  void solve(const cholmod_factor& L, const double* B, int ldb, double* X, int ldx, int width,
+             Workspace& ws) const;
+
+ private:
+  const cholmod_factor* m_factor = nullptr;
+  int m_n = 0;
+  std::vector<int> m_supernode_of;  // per row of L: its supernode
+  std::vector<int> m_position;      // per row of A: its row in L (the inverse permutation)
+};
+
+}  // namespace sinew
