@@ -124,7 +124,6 @@ void LinearSolver::solve_into(SolveWorkspace& ws, const double* columns, int row
 const double* LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride, int width) {
   const cholmod_factor* L = m_cholmod.factor();
   if (L->is_super) {
-    if (ws.solution.rows() != ws.rows) ws.solution.resize(ws.rows, kSolveBlock);
     m_block_solve.solve(*L, columns, stride, ws.solution.data(), ws.rows, width, ws.supernodal);
     return ws.solution.data();
   }
@@ -135,13 +134,23 @@ const double* LinearSolver::solve_block(SolveWorkspace& ws, const double* column
 void LinearSolver::prepare_block_workspaces(int rows) {
   const size_t slots = static_cast<size_t>(tbb::this_task_arena::max_concurrency());
   while (m_block_workspaces.size() < slots) m_block_workspaces.push_back(std::make_unique<SolveWorkspace>());
+  const cholmod_factor* L = m_cholmod.factor();
+  const bool super = L->is_super;
+  const int supernodes = super ? static_cast<int>(L->nsuper) : 0;
   for (const auto& ws : m_block_workspaces) {
-    if (ws->rows == rows) continue;
+    // A new symbolic factor of the same size may have other supernodes: sized again.
+    if (ws->rows == rows && ws->super == super && ws->supernodes == supernodes) continue;
     ws->rows = rows;
+    ws->super = super;
+    ws->supernodes = supernodes;
     if (ws->padded.rows() < rows) ws->padded.resize(rows, kSolveBlock);  // kept at the largest size
     ws->padded.topRows(rows).setZero();
-    if (m_cholmod.factor()->is_super) m_block_solve.prepare(ws->supernodal);
-    else solve_block(*ws, ws->padded.data(), static_cast<int>(ws->padded.rows()), kSolveBlock);  // sizes CHOLMOD's buffers
+    if (super) {
+      ws->solution.resize(rows, kSolveBlock);
+      m_block_solve.prepare(ws->supernodal);
+    } else {
+      solve_block(*ws, ws->padded.data(), static_cast<int>(ws->padded.rows()), kSolveBlock);  // sizes CHOLMOD's buffers
+    }
   }
 }
 

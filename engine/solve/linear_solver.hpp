@@ -29,11 +29,13 @@ class LinearSolver {
   // until |b - A x| <= tolerance |b|. Returns the iterations, or -1 when max_iterations
   // were not enough or A showed no positive curvature along a search direction.
   int solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations);
-  // Solves A X = B column by column, into X of B's size. CHOLMOD: blocks of kSolveBlock
-  // columns solved in parallel (one task per workspace, blocks dealt round robin), each
-  // block as wide whatever the thread count (X is bit-identical for any number of threads):
-  // simplicial factors by cholmod_solve2, supernodal ones by SupernodalBlockSolve (no BLAS
-  // call, no lock; zero parts of the block skipped in the forward pass).
+  // Solves A X = B column by column, into X of B's size. CHOLMOD: blocks of columns solved
+  // in parallel (one task per workspace, blocks dealt round robin), the split fixed by the
+  // column count alone (X is bit-identical for any number of threads). Simplicial factors:
+  // cholmod_solve2 on blocks of kSolveBlock (the last one zero-padded). Supernodal factors:
+  // SupernodalBlockSolve (no BLAS call, no lock; zero parts of a block skipped in the
+  // forward pass) on blocks of ceil(count / 2) columns, at most kSolveBlock, the columns
+  // ordered by their first nonzero in the factor's order; a single column by CHOLMOD.
   void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X);
   // The same, resizing X.
   void solve_many(const MatX& B, MatX& X) {
@@ -76,10 +78,12 @@ class LinearSolver {
     MatX solution;   // rows x kSolveBlock: a supernodal block's X
     SupernodalBlockSolve::Workspace supernodal;
     int rows = -1;   // the system size its buffers were made for
+    bool super = false;  // ... and whether for a supernodal factor
+    int supernodes = 0;  // ... of that many supernodes
   };
-  // One workspace per thread the arena may run, all made for the system's size before the
-  // blocks run, and every block solved kSolveBlock wide (the last one padded): CHOLMOD's
-  // buffers then never change size, whichever thread takes which task (a thread that first
+  // One workspace per thread the arena may run, all made for the system's size (and the
+  // supernodal factor's supernodes) before the blocks run, and every simplicial block solved
+  // kSolveBlock wide (the last one padded): CHOLMOD's buffers then never change size, whichever thread takes which task (a thread that first
   // joined after the warm-up, or a block narrower than the one before, used to allocate).
   void prepare_block_workspaces(int rows);
   // cholmod_solve2 of `cols` columns (leading dimension `stride`) into ws's buffers.

@@ -80,19 +80,36 @@ TEST_CASE("linear_solver: solve_many equals column-by-column solves, simplicial 
   }
 }
 
+// Columns with `nonzeros` random entries each at scattered rows (all rows when nonzeros is
+// 0): sparse ones start at different positions of the factor's order, so the supernodal
+// path reorders them and skips supernodes.
+static MatX sparse_columns(int rows, int cols, int nonzeros) {
+  if (nonzeros == 0) return random_columns(rows, cols);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::uniform_int_distribution<int> row(0, rows - 1);
+  MatX B = MatX::Zero(rows, cols);
+  for (int c = 0; c < cols; ++c)
+    for (int k = 0; k < nonzeros; ++k) B(row(rng), c) = u(rng);
+  return B;
+}
+
 TEST_CASE("linear_solver: solve_many is bit-identical on 1 and 2 threads") {
   // 729 unknowns: simplicial; 1331: supernodal. Column counts that make one block, two
-  // narrow ones and several full ones with a narrower last.
+  // narrow ones and several full ones with a narrower last; dense, 12-entry and unit columns.
   for (const int nx : {9, 11})
-    for (const int cols : {1, 5, 3 * LinearSolver::kSolveBlock + 1}) {
-      CAPTURE(nx);
-      CAPTURE(cols);
-      const SparseMatrix A = grid_matrix(nx);
-      const MatX B = random_columns(static_cast<int>(A.rows()), cols);
-      const MatX one = solve_with_threads(A, B, 1);
-      const MatX two = solve_with_threads(A, B, 2);
-      CHECK(std::memcmp(one.data(), two.data(), sizeof(double) * one.size()) == 0);
-    }
+    for (const int cols : {1, 5, 3 * LinearSolver::kSolveBlock + 1})
+      for (const int nonzeros : {0, 12, 1}) {
+        CAPTURE(nx);
+        CAPTURE(cols);
+        CAPTURE(nonzeros);
+        const SparseMatrix A = grid_matrix(nx);
+        const MatX B = sparse_columns(static_cast<int>(A.rows()), cols, nonzeros);
+        const MatX one = solve_with_threads(A, B, 1);
+        const MatX two = solve_with_threads(A, B, 2);
+        CHECK(std::memcmp(one.data(), two.data(), sizeof(double) * one.size()) == 0);
+        CHECK((A * one - B).norm() <= 1e-12 * B.norm());
+      }
 }
 
 TEST_CASE("linear_solver: supernodal solve_many of unit columns (sparse right-hand sides)") {
@@ -122,7 +139,7 @@ TEST_CASE("linear_solver: supernodal solve_many of unit columns (sparse right-ha
 
 // The grid matrix with diagonal links in every x-y plane too, and a diagonal large enough to
 // keep it dominant: the same size, another sparsity pattern.
-SparseMatrix grid_matrix_with_diagonals(int nx) {
+static SparseMatrix grid_matrix_with_diagonals(int nx) {
   SparseMatrix A = grid_matrix(nx);
   const auto index = [nx](int i, int j, int k) { return (k * nx + j) * nx + i; };
   std::vector<Eigen::Triplet<double>> entries;
