@@ -489,6 +489,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // These rows, at their point, for the next factorisation's curvature (if any): swapped,
     // not copied, as every way out of this loop first rebuilds s.rows (rows_at_iterate).
     std::swap(s.curvature_rows, s.rows);
+    // The count of rows built stays with s.rows (StepWork::rows: it went negative when it
+    // travelled with the tables).
+    std::swap(s.curvature_rows.appended, s.rows.appended);
     s.curvature_point = sc.x_iterate;
     s.curvature_pending = true;
   }

@@ -36,6 +36,9 @@ Run run(const SceneDesc& scene, int steps, int threads) {
     int rows = 0;
     for (const auto& [kind, n] : world.profile().rows) rows += n;
     out.rows = std::max(out.rows, rows);
+    // StepWork::rows counts every row built in the step: at least the step's last table.
+    // (It went negative when the count travelled with the row tables the SQP swaps.)
+    CHECK(world.profile().work.rows >= rows);
     if (world.profile().rows.count("contact")) out.contacts = std::max(out.contacts, world.profile().rows.at("contact"));
   }
   out.hash = world.state_hash();
