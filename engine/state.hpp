@@ -9,6 +9,7 @@
 #include "engine/constraints/row_table.hpp"
 #include "engine/constraints/delassus.hpp"
 #include "engine/constraints/row_column_cache.hpp"
+#include "engine/constraints/energy_screen.hpp"
 #include "engine/constraints/touched_inverse.hpp"
 #include "engine/core/scratch_matrix.hpp"
 #include "engine/core/types.hpp"
@@ -48,6 +49,7 @@ struct State {
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
   VecX v_start;                      // 3 * free: velocities at the start of the step (solve, Newton)
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
+  EnergyScreen energy_screen;        // energy limits' reference for skipping far elements, per step
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
   long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset

@@ -27,18 +27,56 @@ EnergyJacobian jacobian_mode(const Model& model, int e) {
                                                                                : EnergyJacobian::Exact;
 }
 
+double exact_ratio(const Model& model, const VecX& x, int e) {
+  return element_limit_energy(model, e, element_corotated_displacement(model, x, e)) / model.element_Umax[e];
+}
+
 // Ue / Umax per element (0 for elements without a limit), into kept storage (a warm step
-// allocates nothing); valid until the next call on this thread.
-const std::vector<double>& energy_ratios(const Model& model, const VecX& x) {
-  // Bound to a local reference: the parallel tasks below must see this thread's vector,
+// allocates nothing); valid until the next call on this thread. With a screen holding a
+// reference, an element whose bound is at most `threshold` gets the bound instead
+// (energy_screen.hpp): it makes no row either way. The largest value stays exact: screened
+// elements whose bound exceeds the largest exact ratio are evaluated after all.
+const std::vector<double>& energy_ratios(const Model& model, const VecX& x, EnergyScreen* screen, double threshold) {
+  // Bound to local references: the parallel tasks below must see this thread's vectors,
   // not their own thread's.
   thread_local std::vector<double> storage;
+  thread_local std::vector<char> bounded_storage;
   std::vector<double>& ratio = storage;
+  std::vector<char>& bounded = bounded_storage;
   ratio.assign(model.num_elements, 0.0);
+  bounded.assign(model.num_elements, 0);
+  const bool screening = screen && screen->valid;
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (model.element_Umax[e] <= 0) return;
-    ratio[e] = element_limit_energy(model, e, element_corotated_displacement(model, x, e)) / model.element_Umax[e];
+    if (screening) {
+      const double bound = energy_ratio_bound(model, *screen, x, e);
+      if (bound <= threshold) {
+        ratio[e] = bound;
+        bounded[e] = 1;
+        return;
+      }
+    }
+    ratio[e] = exact_ratio(model, x, e);
   });
+  if (!screen) return ratio;
+  if (!screening) {
+    record_energy_reference(model, x, ratio, *screen);
+    screen->screened = 0;
+    return ratio;
+  }
+  double largest = -1;
+  for (int e = 0; e < model.num_elements; ++e)
+    if (model.element_Umax[e] > 0 && !bounded[e]) largest = std::max(largest, ratio[e]);
+  for (;;) {
+    int top = -1;
+    for (int e = 0; e < model.num_elements; ++e)
+      if (bounded[e] && ratio[e] > largest && (top < 0 || ratio[e] > ratio[top])) top = e;
+    if (top < 0) break;
+    ratio[top] = exact_ratio(model, x, top);
+    bounded[top] = 0;
+    largest = std::max(largest, ratio[top]);
+  }
+  screen->screened = std::count(bounded.begin(), bounded.end(), 1);
   return ratio;
 }
 
@@ -52,8 +90,8 @@ double worst_of(const Model& model, const std::vector<double>& ratio) {
 }  // namespace
 
 double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
-                             const std::vector<uint64_t>& keep, RowTable& rows) {
-  const std::vector<double>& ratio = energy_ratios(model, x);
+                             const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen) {
+  const std::vector<double>& ratio = energy_ratios(model, x, screen, 1 - margin);
   for (int e = 0; e < model.num_elements; ++e) {
     if (model.element_Umax[e] <= 0) continue;
     const uint64_t key = row_key(RowKind::Energy, e);
@@ -74,7 +112,7 @@ double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
 }
 
 double worst_energy_violation(const Model& model, const VecX& x) {
-  return worst_of(model, energy_ratios(model, x));
+  return worst_of(model, energy_ratios(model, x, nullptr, 0.0));
 }
 
 }  // namespace sinew

@@ -10,6 +10,7 @@
 //          = -(1 / Umax) R Ke u. It has the direction of the exact gradient but half its
 //          length, because f_e is the gradient of 1/2 u^T Ke u while Ue = u^T Ke u: the
 //          linearised constraint then overshoots, which is what slows SQP down.
+#include "engine/constraints/energy_screen.hpp"
 #include "engine/constraints/row_table.hpp"
 #include "engine/model.hpp"
 
@@ -29,9 +30,12 @@ EnergyLimitEval evaluate_energy_limit(const Vec24& Ku, const Mat3& R, const Vec2
 
 // Adds a row for every limited element whose Ue/Umax exceeds 1 - margin at x, or whose key
 // is in `keep` (rows that carried force earlier in this step). Rotations come from x.
-// Returns the worst Ue/Umax - 1 over all limited elements (-1 when none).
+// Returns the worst Ue/Umax - 1 over all limited elements (-1 when none). With a screen
+// (energy_screen.hpp), the first call after its reset records x as its reference and later
+// calls skip the elements the bound places below 1 - margin: the same rows and the same
+// worst value, with fewer evaluations.
 double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
-                             const std::vector<uint64_t>& keep, RowTable& rows);
+                             const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen = nullptr);
 
 // Worst Ue/Umax - 1 over limited elements at x (-1 when none); no rows.
 double worst_energy_violation(const Model& model, const VecX& x);

@@ -55,7 +55,7 @@ Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity
   return ref;
 }
 
-Mat3 compute_hex8_rotation(const std::array<Vec3, 8>& x, double cell_size) {
+Mat3 hex8_inner_deformation_gradient(const std::array<Vec3, 8>& x, double cell_size) {
   // Innermost tetrahedron: corners (0,0,0), (0,1,1), (1,0,1), (1,1,0) = nodes 0, 3, 5, 6.
   // At rest its edge matrix is c * [(0,1,1) (1,0,1) (1,1,0)], whose inverse is
   // (1/(2c)) * [[-1,1,1],[1,-1,1],[1,1,-1]].
@@ -66,7 +66,11 @@ Mat3 compute_hex8_rotation(const std::array<Vec3, 8>& x, double cell_size) {
   Mat3 Dm_inv;
   Dm_inv << -1, 1, 1, 1, -1, 1, 1, 1, -1;
   Dm_inv /= 2 * cell_size;
-  return polar_rotation(Ds * Dm_inv);
+  return Ds * Dm_inv;
+}
+
+Mat3 compute_hex8_rotation(const std::array<Vec3, 8>& x, double cell_size) {
+  return polar_rotation(hex8_inner_deformation_gradient(x, cell_size));
 }
 
 Vec24 hex8_corotated_displacement(const Mat3& R, const std::array<Vec3, 8>& x,

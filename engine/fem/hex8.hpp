@@ -46,6 +46,9 @@ Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity
 // tetrahedron of the cell (nodes 0, 3, 5, 6: the even-parity corners; paper 000, fig. 2,
 // after [NL08]). x holds the 8 deformed node positions; the rest tetrahedron is regular.
 Mat3 compute_hex8_rotation(const std::array<Vec3, 8>& x, double cell_size);
+// That tetrahedron's deformation gradient, whose polar part the rotation is. Its inverse
+// rest edge matrix has 2-norm 1 / cell_size.
+Mat3 hex8_inner_deformation_gradient(const std::array<Vec3, 8>& x, double cell_size);
 
 // Corotated displacement u = R^T x - X (24-vector, node-major).
 Vec24 hex8_corotated_displacement(const Mat3& R, const std::array<Vec3, 8>& x,

@@ -23,9 +23,9 @@ namespace {
 // freely on the steps in between (and sink, when g h^2 < contact_tolerance).
 double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
                   const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
-                  BodySurfaces& surfaces, StepProfile& profile) {
+                  BodySurfaces& surfaces, EnergyScreen& screen, StepProfile& profile) {
   rows.clear();
-  const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows);
+  const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows, &screen);
   profile.violation["energy"] = std::max(0.0, energy);
   double worst = energy / model.solver.sqp_tolerance;
   if (model.has_strain_limits) {
@@ -206,6 +206,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const SolverDesc& cfg = model.solver;
   const double h = model.h;
   StepScratch& sc = s.scratch;
+  s.energy_screen.valid = false;  // the step's first row build records the reference
   const VecX& x0 = s.x;           // unchanged here (integrate_positions comes after)
   const VecX& v_star = s.v_free;  // the Newton step of solve_velocity (or solve_newton's result);
                                   // written only once SQP is done
@@ -242,7 +243,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       return 0.0;
     }
     sc.x_iterate = x0 + h * s.v;
-    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, s.body_surfaces, profile);
+    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, s.body_surfaces,
+                      s.energy_screen, profile);
   };
   for (int k = 0;; ++k) {
     double worst = rows_at_iterate(k);

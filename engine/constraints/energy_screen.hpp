@@ -1,0 +1,39 @@
+#pragma once
+// Leaves hex elements far below their energy limit out of a row build without computing
+// their rotation and energy, by a bound that holds, so the rows built are the same. Each
+// SQP iteration of a step evaluates every limited element at its iterate (a polar
+// decomposition and a 24 x 24 product each); the iterates move little within a step.
+//
+// With R the element's rotation (the polar factor of its inner tetrahedron's F, hex8.hpp),
+// u = R^T x - X and Ue = u^T Ke u, against a reference evaluation at x_ref:
+//   sqrt(Ue(x)) <= sqrt(Ue(x_ref)) + sqrt(lambda_max(Ke)) (|dx~| + |R - R_ref|_F |x~_ref|)
+// where x~ are node positions relative to node 0 (Ke annihilates translations) and dx~ their
+// change; and, for F and F_ref with positive determinants (Li 1995, the unitary polar factor),
+//   |R - R_ref|_F <= 2 |F - F_ref|_F / (sigma_min(F) + sigma_min(F_ref)),
+//   sigma_min(F) >= 2 det(F) / |F|_F^2     (sigma_1 sigma_2 <= |F|_F^2 / 2).
+#include <vector>
+
+#include "engine/core/types.hpp"
+#include "engine/model.hpp"
+
+namespace sinew {
+
+struct EnergyScreen {
+  bool valid = false;             // a reference is recorded (reset at the start of each step)
+  VecX x_ref;                     // where it was recorded
+  std::vector<double> root;       // per element: sqrt(Ue(x_ref)); < 0: not screened (tet, inverted)
+  std::vector<Mat3> F_ref;        // per element: the inner tetrahedron's F at x_ref
+  std::vector<double> sigma_ref;  // per element: the lower bound of sigma_min(F_ref) above
+  std::vector<double> spread;     // per element: |x~_ref|, over the 8 nodes
+  std::vector<double> root_lambda;  // per hex reference: sqrt(lambda_max(Ke)), computed once
+  const Model* model = nullptr;       // root_lambda's model
+  long screened = 0;                  // elements left out by the last build (tests)
+};
+
+// Records exact ratios (Ue / Umax, as energy_limit.cpp computes them) at x as the reference.
+void record_energy_reference(const Model& model, const VecX& x, const std::vector<double>& ratio,
+                             EnergyScreen& screen);
+// An upper bound of Ue(x) / Umax for element e, or +infinity when the bound does not apply.
+double energy_ratio_bound(const Model& model, const EnergyScreen& screen, const VecX& x, int e);
+
+}  // namespace sinew
