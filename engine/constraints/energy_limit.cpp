@@ -34,8 +34,8 @@ double exact_ratio(const Model& model, const VecX& x, int e) {
 // Ue / Umax per element (0 for elements without a limit), into kept storage (a warm step
 // allocates nothing); valid until the next call on this thread. With a screen holding a
 // reference, an element whose bound is at most `threshold` gets the bound instead
-// (energy_screen.hpp): it makes no row either way. The largest value stays exact: screened
-// elements whose bound exceeds the largest exact ratio are evaluated after all.
+// (energy_screen.hpp): it makes no row either way, and the largest ratio is exact whenever
+// it is above `threshold`.
 const std::vector<double>& energy_ratios(const Model& model, const VecX& x, EnergyScreen* screen, double threshold) {
   // Bound to local references: the parallel tasks below must see this thread's vectors,
   // not their own thread's.
@@ -63,18 +63,6 @@ const std::vector<double>& energy_ratios(const Model& model, const VecX& x, Ener
     record_energy_reference(model, x, ratio, *screen);
     screen->screened = 0;
     return ratio;
-  }
-  double largest = -1;
-  for (int e = 0; e < model.num_elements; ++e)
-    if (model.element_Umax[e] > 0 && !bounded[e]) largest = std::max(largest, ratio[e]);
-  for (;;) {
-    int top = -1;
-    for (int e = 0; e < model.num_elements; ++e)
-      if (bounded[e] && ratio[e] > largest && (top < 0 || ratio[e] > ratio[top])) top = e;
-    if (top < 0) break;
-    ratio[top] = exact_ratio(model, x, top);
-    bounded[top] = 0;
-    largest = std::max(largest, ratio[top]);
   }
   screen->screened = std::count(bounded.begin(), bounded.end(), 1);
   return ratio;

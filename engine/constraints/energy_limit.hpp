@@ -32,8 +32,9 @@ EnergyLimitEval evaluate_energy_limit(const Vec24& Ku, const Mat3& R, const Vec2
 // is in `keep` (rows that carried force earlier in this step). Rotations come from x.
 // Returns the worst Ue/Umax - 1 over all limited elements (-1 when none). With a screen
 // (energy_screen.hpp), the first call after its reset records x as its reference and later
-// calls skip the elements the bound places below 1 - margin: the same rows and the same
-// worst value, with fewer evaluations.
+// calls skip the elements the bound places below 1 - margin: the same rows, and the same
+// worst value whenever it is above -margin (below, an upper bound, still below -margin:
+// callers only compare it with positive tolerances and report its positive part).
 double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen = nullptr);
 

@@ -10,7 +10,12 @@
 // where x~ are node positions relative to node 0 (Ke annihilates translations) and dx~ their
 // change; and, for F and F_ref with positive determinants (Li 1995, the unitary polar factor),
 //   |R - R_ref|_F <= 2 |F - F_ref|_F / (sigma_min(F) + sigma_min(F_ref)),
-//   sigma_min(F) >= 2 det(F) / |F|_F^2     (sigma_1 sigma_2 <= |F|_F^2 / 2).
+//   sigma_min(F) >= 2 det(F) / |F|_F^2     (sigma_1 sigma_2 <= |F|_F^2 / 2),
+// taken only where det(F) > 1e-2 |F|_F^3 / (3 sqrt 3) at both points (10x above the
+// polar code's own switch to its SVD: the rotation is then F's orthogonal polar factor).
+// The computed exact value carries round-off that grows with the nodes' distance from the
+// origin (u = R^T x - X holds their rigid translation, which Ke annihilates only to
+// round-off): the bound adds 1024 eps lambda_max (|x| + |X|)^2 / Umax for it.
 #include <vector>
 
 #include "engine/core/types.hpp"
@@ -23,12 +28,13 @@ struct EnergyScreen {
   VecX x_ref;                     // where it was recorded
   std::vector<double> root;       // per element: sqrt(Ue(x_ref)); < 0: not screened (tet, inverted)
   std::vector<Mat3> F_ref;        // per element: the inner tetrahedron's F at x_ref
-  std::vector<double> sigma_ref;  // per element: the lower bound of sigma_min(F_ref) above
   std::vector<double> spread;     // per element: |x~_ref|, over the 8 nodes
-  std::vector<double> root_lambda;  // per hex reference: sqrt(lambda_max(Ke)), computed once
-  const Model* model = nullptr;       // root_lambda's model
-  long screened = 0;                  // elements left out by the last build (tests)
+  long screened = 0;              // elements left out by the last build (tests)
 };
+
+// Li's bound on |polar(F) - polar(F_ref)|_F with the sigma_min bounds above; +infinity
+// unless both are well away from singular (the condition above).
+double polar_change_bound(const Mat3& F, const Mat3& F_ref);
 
 // Records exact ratios (Ue / Umax, as energy_limit.cpp computes them) at x as the reference.
 void record_energy_reference(const Model& model, const VecX& x, const std::vector<double>& ratio,

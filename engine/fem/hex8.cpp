@@ -1,5 +1,6 @@
 #include "engine/fem/hex8.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <cmath>
 
@@ -52,6 +53,8 @@ Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity
     ref.Ke += B.transpose() * C * B * ref.det_dXds;  // eq. 10, w_q = 1
   }
   ref.Ke = 0.5 * (ref.Ke + ref.Ke.transpose()).eval();
+  const Eigen::SelfAdjointEigenSolver<Mat24> eigen(ref.Ke, Eigen::EigenvaluesOnly);
+  ref.root_lambda_max = std::sqrt(std::max(0.0, eigen.eigenvalues().maxCoeff()));
   return ref;
 }
 

@@ -39,6 +39,7 @@ struct Hex8Reference {
   std::array<Mat83, 8> dN_dX;       // H(s_q) F^-1 at each Gauss point
   std::array<Mat6x24, 8> B;         // Voigt strain-displacement matrix at each Gauss point
   Mat24 Ke;                         // sum_q B^T C B det(F)
+  double root_lambda_max = 0;       // sqrt of Ke's largest eigenvalue (energy_screen.hpp)
 };
 Hex8Reference compute_hex8_reference(double cell_size, const IsotropicElasticity& elasticity);
 
