@@ -49,7 +49,7 @@ struct State {
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
   VecX v_start;                      // 3 * free: velocities at the start of the step (solve, Newton)
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
-  EnergyScreen energy_screen;        // energy limits' reference for skipping far elements, per step
+  EnergyScreen energy_screen;        // energy limits: each element's last exact evaluation (skips far ones)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
   long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset

@@ -32,10 +32,10 @@ double exact_ratio(const Model& model, const VecX& x, int e) {
 }
 
 // Ue / Umax per element (0 for elements without a limit), into kept storage (a warm step
-// allocates nothing); valid until the next call on this thread. With a screen holding a
-// reference, an element whose bound is at most `threshold` gets the bound instead
-// (energy_screen.hpp): it makes no row either way, and the largest ratio is exact whenever
-// it is above `threshold`.
+// allocates nothing); valid until the next call on this thread. With a screen, an element
+// whose bound is at most `threshold` gets the bound instead (energy_screen.hpp): it makes no
+// row either way, and the largest ratio is exact whenever it is above `threshold`. Every
+// element evaluated exactly becomes its own reference.
 const std::vector<double>& energy_ratios(const Model& model, const VecX& x, EnergyScreen* screen, double threshold) {
   // Bound to local references: the parallel tasks below must see this thread's vectors,
   // not their own thread's.
@@ -45,10 +45,10 @@ const std::vector<double>& energy_ratios(const Model& model, const VecX& x, Ener
   std::vector<char>& bounded = bounded_storage;
   ratio.assign(model.num_elements, 0.0);
   bounded.assign(model.num_elements, 0);
-  const bool screening = screen && screen->valid;
+  if (screen) prepare_energy_screen(model, *screen);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (model.element_Umax[e] <= 0) return;
-    if (screening) {
+    if (screen) {
       const double bound = energy_ratio_bound(model, *screen, x, e);
       if (bound <= threshold) {
         ratio[e] = bound;
@@ -57,14 +57,9 @@ const std::vector<double>& energy_ratios(const Model& model, const VecX& x, Ener
       }
     }
     ratio[e] = exact_ratio(model, x, e);
+    if (screen) record_element_reference(model, x, e, ratio[e], *screen);
   });
-  if (!screen) return ratio;
-  if (!screening) {
-    record_energy_reference(model, x, ratio, *screen);
-    screen->screened = 0;
-    return ratio;
-  }
-  screen->screened = std::count(bounded.begin(), bounded.end(), 1);
+  if (screen) screen->screened = std::count(bounded.begin(), bounded.end(), 1);
   return ratio;
 }
 

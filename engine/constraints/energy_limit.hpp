@@ -31,10 +31,11 @@ EnergyLimitEval evaluate_energy_limit(const Vec24& Ku, const Mat3& R, const Vec2
 // Adds a row for every limited element whose Ue/Umax exceeds 1 - margin at x, or whose key
 // is in `keep` (rows that carried force earlier in this step). Rotations come from x.
 // Returns the worst Ue/Umax - 1 over all limited elements (-1 when none). With a screen
-// (energy_screen.hpp), the first call after its reset records x as its reference and later
-// calls skip the elements the bound places below 1 - margin: the same rows, and the same
-// worst value whenever it is above -margin (below, an upper bound, still below -margin:
-// callers only compare it with positive tolerances and report its positive part).
+// (energy_screen.hpp), elements the bound against their last exact evaluation places below
+// 1 - margin are skipped, the others evaluated (and their references moved to x): the same
+// rows, and the same worst value whenever it is above -margin (below, an upper bound, still
+// below -margin: callers only compare it with positive tolerances and report its positive
+// part).
 double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen = nullptr);
 

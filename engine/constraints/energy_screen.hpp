@@ -2,7 +2,8 @@
 // Leaves hex elements far below their energy limit out of a row build without computing
 // their rotation and energy, by a bound that holds, so the rows built are the same. Each
 // SQP iteration of a step evaluates every limited element at its iterate (a polar
-// decomposition and a 24 x 24 product each); the iterates move little within a step.
+// decomposition and a 24 x 24 product each); the iterates, and the steps of a body near
+// rest, move little.
 //
 // With R the element's rotation (the polar factor of its inner tetrahedron's F, hex8.hpp),
 // u = R^T x - X and Ue = u^T Ke u, against a reference evaluation at x_ref:
@@ -16,6 +17,13 @@
 // The computed exact value carries round-off that grows with the nodes' distance from the
 // origin (u = R^T x - X holds their rigid translation, which Ke annihilates only to
 // round-off): the bound adds 1024 eps lambda_max (|x| + |X|)^2 / Umax for it.
+//
+// The bound holds for any x and any reference, whenever it was taken: each element keeps its
+// own, from its last exact evaluation, across SQP iterations and steps (an element whose
+// bound rises above the threshold is evaluated, and its reference moves there). Ke and the
+// rest shape never change; sqrt(Ue) is kept rather than Ue / Umax, which a sleeping body's
+// frozen model (Umax 0) would not share.
+#include <array>
 #include <vector>
 
 #include "engine/core/types.hpp"
@@ -24,11 +32,14 @@
 namespace sinew {
 
 struct EnergyScreen {
-  bool valid = false;             // a reference is recorded (reset at the start of each step)
-  VecX x_ref;                     // where it was recorded
-  std::vector<double> root;       // per element: sqrt(Ue(x_ref)); < 0: not screened (tet, inverted)
-  std::vector<Mat3> F_ref;        // per element: the inner tetrahedron's F at x_ref
-  std::vector<double> spread;     // per element: |x~_ref|, over the 8 nodes
+  bool valid = false;             // sized for the model, and every element's entry meaningful
+  // Per element, at its reference: sqrt(Ue) (< 0: none: never evaluated, a tet, or inverted
+  // there), the inner tetrahedron's F, |x~_ref| over the 8 nodes, |x_ref| over them, x~_ref.
+  std::vector<double> root;
+  std::vector<Mat3> F_ref;
+  std::vector<double> spread;
+  std::vector<double> reach;
+  std::vector<std::array<Vec3, 8>> offsets;
   long screened = 0;              // elements left out by the last build (tests)
 };
 
@@ -36,7 +47,13 @@ struct EnergyScreen {
 // unless both are well away from singular (the condition above).
 double polar_change_bound(const Mat3& F, const Mat3& F_ref);
 
-// Records exact ratios (Ue / Umax, as energy_limit.cpp computes them) at x as the reference.
+// Sizes the screen for the model (every element without a reference); no allocation when it
+// already is.
+void prepare_energy_screen(const Model& model, EnergyScreen& screen);
+// Records element e's exact ratio (Ue / Umax, as energy_limit.cpp computes it) at x as its
+// reference; elements apart may be recorded in parallel.
+void record_element_reference(const Model& model, const VecX& x, int e, double ratio, EnergyScreen& screen);
+// The same for every limited element.
 void record_energy_reference(const Model& model, const VecX& x, const std::vector<double>& ratio,
                              EnergyScreen& screen);
 // An upper bound of Ue(x) / Umax for element e, or +infinity when the bound does not apply.

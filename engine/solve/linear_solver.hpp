@@ -12,6 +12,7 @@
 #include "engine/scene/scene.hpp"
 #include "engine/solve/cholmod_memory_pool.hpp"
 #include "engine/solve/supernodal_block_solve.hpp"
+#include "engine/solve/supernodal_tree_solve.hpp"
 
 namespace sinew {
 
@@ -93,6 +94,10 @@ class LinearSolver {
   const double* solve_block(SolveWorkspace& ws, const double* columns, int stride, int width);
   Cholmod m_cholmod;
   SupernodalBlockSolve m_block_solve;  // analysed for the current symbolic factor, or not yet
+  SupernodalTreeSolve m_tree_solve;    // the same
+  // x = A^-1 b by m_tree_solve when the factor is supernodal and its tree splits; false
+  // (nothing done) otherwise.
+  bool tree_solve(const double* b, double* x);
   std::vector<int> m_column_order, m_column_start;  // solve_many's, kept
   std::vector<std::unique_ptr<SolveWorkspace>> m_block_workspaces;
   std::unique_ptr<SolveWorkspace> m_single;  // solve(): one column, its buffers kept

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <limits>
 
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/constraints/attachment_rows.hpp"
@@ -8,6 +9,7 @@
 #include "engine/constraints/lcp_pgs.hpp"
 #include "engine/constraints/strain_limit_rows.hpp"
 #include "engine/step/sqp_merit.hpp"
+#include "engine/solve/system_product.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
@@ -206,7 +208,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const SolverDesc& cfg = model.solver;
   const double h = model.h;
   StepScratch& sc = s.scratch;
-  s.energy_screen.valid = false;  // the step's first row build records the reference
   const VecX& x0 = s.x;           // unchanged here (integrate_positions comes after)
   const VecX& v_star = s.v_free;  // the Newton step of solve_velocity (or solve_newton's result);
                                   // written only once SQP is done
@@ -226,6 +227,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   MeritStep merit_step;
   double alpha = 1, first_alpha = 1;  // the step length tried, and the first one tried
   bool searching = false, have_feasible = false;
+  // The least violated iterate's worst value, while none met the tolerances (infinity: none yet).
+  double least_violation = std::numeric_limits<double>::infinity();
   int backtracks = 0, stalls_accepted = 0, restored = 0, conjugate_steps = 0;
   // Conjugate steps: whether the last QP left its direction and A times it in scratch.
   bool conjugate_ready = false;
@@ -279,15 +282,23 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       ++stalls_accepted;
       break;
     }
+    // The fallback: the last iterate within the tolerances, or, while none has been, the
+    // least violated QP solution (not v*, which leaves the constraints out).
     if (worst <= 1) {
       sc.sqp_feasible = v_free;
       have_feasible = true;
+    } else if (k > 0 && !have_feasible && worst < least_violation) {
+      sc.sqp_feasible = v_free;
+      least_violation = worst;
     }
     if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp)) {
       // The merit weighs small violations lightly (and does not fall at every iteration: a
       // last half is taken regardless, a non-descent step whole), so the last iterate may be
-      // over a tolerance that an earlier one met (the tip-pressed finger).
-      if (worst > 1 && have_feasible) {
+      // over a tolerance that an earlier one met (the tip-pressed finger), or, where the
+      // limits cannot all be met (paper 001's orthogonal projection: [1, 1] on two axes),
+      // far more violated than an earlier one: taken, that one ran away within 3 steps
+      // (worst strain violation 0.02 -> 2.1 -> 57 -> 2100, the column 52 m down).
+      if (worst > 1 && (have_feasible || least_violation < worst)) {  // never true for worst = NaN
         v_free = sc.sqp_feasible;
         scatter_free(model, v_free, s.v);
         rows_at_iterate(k);
@@ -339,7 +350,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     const bool one_solve = k > 0 && per_row && shared_solves_on &&
                            static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
     if (k > 0) {
-      sc.residual.noalias() = s.system * v_free;
+      multiply_system(s.system, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
       if (!one_solve) {
         sc.step.setZero(v_free.size());
@@ -402,9 +413,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // H is not A, as v_base = v* is then not H's Newton step): the step is taken whole.
     merit.raise_weights(s.rows);
     sc.sqp_direction = v_next - v_free;
-    sc.sqp_product.noalias() = s.system * sc.sqp_direction;
+    multiply_system(s.system, sc.sqp_direction, sc.sqp_product);
     if (k == 0) {  // k > 0: sc.residual = b - A v_k already
-      sc.residual.noalias() = s.system * v_free;
+      multiply_system(s.system, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
     }
     // With an exact factorisation and rows without curvature the QP's step is already the

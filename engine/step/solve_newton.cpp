@@ -7,6 +7,7 @@
 #include "engine/assembly/for_each_scheduled_element.hpp"
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
+#include "engine/solve/system_product.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
@@ -319,7 +320,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   }
   // The quadratic model around v that solve_constraints continues from.
   if (ok) {
-    state.rhs.noalias() = state.system * v;
+    multiply_system(state.system, v, state.rhs);
     state.rhs -= gradient;
     state.v_free = v;
     for (int n = 0; n < model.num_nodes; ++n) {

@@ -1,5 +1,6 @@
 #include <algorithm>
 
+#include "engine/solve/system_product.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/step/stages.hpp"
 
@@ -71,7 +72,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   }
   VecX& residual = state.scratch.residual;
   VecX& delta = state.scratch.step;
-  residual.noalias() = state.system * v0;
+  multiply_system(state.system, v0, residual);
   residual = state.rhs - residual;
   delta.setZero(v0.size());
   const int iterations = solver.solve(residual, delta);

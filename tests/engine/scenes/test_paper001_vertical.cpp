@@ -64,6 +64,11 @@ TEST_CASE("paper 001 fig. 4: orthogonal projection freezes, linear interpolation
   CHECK(orthogonal.first_violation >= 0);
   CHECK(orthogonal.first_violation <= 5);
   CHECK(orthogonal.sink < 0.1 * hyperbolic.sink);
+  // Its limits cannot all be met, and SQP ends every step at its cap; a step returns its
+  // least violated iterate, so the violation stays within the x axis's own band width
+  // (0.05). Returning the last iterate instead, a perturbation of round-off made it run
+  // away at frame 83 (2.1, then 57, then 2100: the column 52 m down).
+  CHECK(orthogonal.worst_violation < 0.05);
   CHECK(linear.first_x_past_limit >= 0);
   CHECK((linear.first_violation < 0 || linear.first_x_past_limit < linear.first_violation));
   CHECK(hyperbolic.worst_violation <= tol);

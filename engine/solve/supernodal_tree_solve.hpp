@@ -1,0 +1,52 @@
+#pragma once
+// One right-hand side solved on CHOLMOD's supernodal factor (A = P^T L L^T P) by two
+// threads: the elimination tree's subtrees are independent in both passes, so the
+// supernodes split into two sets of whole subtrees ("bins", of about equal work) and the
+// rest, their ancestors ("top"). Forward: each bin runs on its own copy of the vector (its
+// updates to top rows accumulate there), the copies are summed into the top rows in a fixed
+// order, then the top runs. Backward: the top first, then the bins, which only read top rows.
+// The split depends on the factor alone: the result is bit-identical for any thread count.
+// Per supernode, BLAS-2 work as dense products on its block (Eigen, no BLAS call: Debian's
+// serial OpenBLAS may not run on two threads at once). CHOLMOD's single solve runs on one
+// thread; SQP, Newton-PCG and the step's velocity solve take several single solves a step.
+#include <cholmod.h>
+
+#include <array>
+#include <vector>
+
+#include "engine/core/types.hpp"
+
+namespace sinew {
+
+class SupernodalTreeSolve {
+ public:
+  // Reads L's supernodal elimination tree and chooses the split (once per symbolic
+  // analysis). Leaves it unusable (usable() false) when the tree has no useful split: then
+  // the caller solves on one thread.
+  void analyse(const cholmod_factor& L);
+  bool analysed_for(const cholmod_factor& L) const { return m_factor == &L && m_n == static_cast<int>(L.n); }
+  bool usable() const { return m_usable; }
+  // Work in the bins and the top, as factor entries (tests, docs).
+  long bin_entries(int b) const { return m_bin_entries[b]; }
+  long top_entries() const { return m_top_entries; }
+  // x = A^-1 b (n values each; may not alias). Allocates nothing once its buffers are sized.
+  void solve(const cholmod_factor& L, const double* b, double* x);
+
+ private:
+  struct Range {
+    int first, last;  // supernodes first..last: one subtree, in the factor's (post)order
+  };
+  const cholmod_factor* m_factor = nullptr;
+  int m_n = 0;
+  bool m_usable = false;
+  std::array<std::vector<Range>, 2> m_bins;
+  std::vector<int> m_top;       // supernodes outside the bins, ascending
+  std::vector<int> m_top_rows;  // their rows of L
+  std::array<long, 2> m_bin_entries{};
+  long m_top_entries = 0;
+  int m_max_below = 0;          // rows below a supernode's triangle, at most
+  std::vector<double> m_y;      // the shared vector, in the factor's order
+  std::array<std::vector<double>, 2> m_bin_y, m_gather;  // per bin: its copy, its gather buffer
+};
+
+}  // namespace sinew
