@@ -49,7 +49,7 @@ void prepare_energy_screen(const Model& model, EnergyScreen& screen) {
 
 void record_element_reference(const Model& model, const VecX& x, int e, double ratio, EnergyScreen& screen) {
   screen.root[e] = -1.0;
-  if (model.element_Umax[e] <= 0 || model.element_type[e] != ElementType::Hex8) return;
+  if (model.element_Umax[e] <= 0 || model.element_type[e] != ElementType::Hex8 || !std::isfinite(ratio)) return;
   const ElementNodes nodes = gather_element_nodes(model, x, e);
   const double cell = model.references[model.element_reference[e]].cell_size;
   screen.F_ref[e] = hex8_inner_deformation_gradient(nodes.x, cell);

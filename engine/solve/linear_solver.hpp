@@ -18,7 +18,8 @@ namespace sinew {
 
 class LinearSolver {
  public:
-  static constexpr int kSupernodalThreshold = 1000;  // DOFs
+  static constexpr int kSupernodalThreshold = 1000;     // DOFs
+  static constexpr int kNestedDissectionLimit = 20000;  // DOFs: AMD or NESDIS up to here (factorize)
   explicit LinearSolver(const SolverDesc& desc);
   // Numeric factorisation (CHOLMOD) or preconditioner setup (PCG). The first call, and
   // any call after reset_pattern(), also runs the symbolic analysis. False if A is not SPD.

@@ -247,7 +247,9 @@ TEST_CASE("energy screen: kept across builds along a path, the same rows and wor
     CHECK(screened_rows.key == plain_rows.key);
     CHECK(screened_rows.value == plain_rows.value);
     REQUIRE(screened_rows.jac.size() == plain_rows.jac.size());
-    CHECK(std::memcmp(screened_rows.jac.data(), plain_rows.jac.data(), sizeof(Vec3) * plain_rows.jac.size()) == 0);
+    // Straight (k = 0) or barely bent, no row: memcmp may not be given empty storage's null.
+    if (!plain_rows.jac.empty())
+      CHECK(std::memcmp(screened_rows.jac.data(), plain_rows.jac.data(), sizeof(Vec3) * plain_rows.jac.size()) == 0);
   }
   CHECK(screened > 0);  // the kept references did leave elements out
 }

@@ -158,3 +158,25 @@ TEST_CASE("linear_solver: single solves on a supernodal factor match a simplicia
   solver.solve(b, x);
   CHECK((x - 0.5 * expected).norm() <= 1e-12 * expected.norm());
 }
+
+TEST_CASE("linear_solver: a new analysis does not depend on the solver's history") {
+  // A supernodal system (AMD or nested dissection) and then, after reset_pattern, a
+  // simplicial one (CHOLMOD's default ordering), as when bodies fall asleep: the same factor
+  // and the same bits as a fresh solver's. On this 648-DOF grid nested dissection would fill
+  // less than AMD (55,119 entries against 55,596), so a setting left over from the larger
+  // system would show.
+  const SparseMatrix large = hex_grid_matrix(11), small = hex_grid_matrix(6);
+  REQUIRE(small.rows() < LinearSolver::kSupernodalThreshold);
+  LinearSolver used(SolverDesc{});
+  REQUIRE(used.factorize(large));
+  used.reset_pattern();
+  REQUIRE(used.factorize(small));
+  LinearSolver fresh(SolverDesc{});
+  REQUIRE(fresh.factorize(small));
+  CHECK(used.factor_entries() == fresh.factor_entries());
+  const VecX b = random_vector(static_cast<int>(small.rows()), 9);
+  VecX x_used, x_fresh;
+  used.solve(b, x_used);
+  fresh.solve(b, x_fresh);
+  CHECK(std::memcmp(x_used.data(), x_fresh.data(), sizeof(double) * b.size()) == 0);
+}
