@@ -7,6 +7,24 @@
 
 namespace sinew {
 
+namespace {
+
+// W_ij = entry(i, j) for i >= j, columns in parallel (each entry summed in one order whatever
+// the thread count), then W_ji = W_ij: symmetric by construction, as PGS's column updates
+// assume, for half the work of the whole matrix.
+template <typename Entry>
+void fill_symmetric(Eigen::Ref<MatX> W, const Entry& entry) {
+  const int m = static_cast<int>(W.rows());
+  tbb::parallel_for(tbb::blocked_range<int>(0, m, 4), [&](const tbb::blocked_range<int>& range) {
+    for (int j = range.begin(); j < range.end(); ++j)
+      for (int i = j; i < m; ++i) W(i, j) = entry(i, j);
+  });
+  for (int j = 0; j < m; ++j)
+    for (int i = j + 1; i < m; ++i) W(j, i) = W(i, j);
+}
+
+}  // namespace
+
 void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, const TouchedInverse& inverse) {
   const int m = rows.size();
   m_k3 = 3 * inverse.size();
@@ -60,22 +78,16 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
   const int m = rows.size();
   m_diagonal.resize(m);  // size() from here on
   Eigen::Map<MatX> W = this->W();
-  // The lower triangle, W_ij = J_i Y_j for i >= j, columns in parallel (each entry summed
-  // in one order whatever the thread count), then mirrored: the creature's 96 rows of 8
-  // nodes each cost 110k multiply-adds a build, at every SQP iteration.
-  tbb::parallel_for(tbb::blocked_range<int>(0, m, 4), [&](const tbb::blocked_range<int>& range) {
-    for (int j = range.begin(); j < range.end(); ++j) {
-      const double* y = columns[j];
-      for (int i = j; i < m; ++i) {
-        double s = 0;
-        for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
-          if (const int f = free_index[rows.nodes[e]]; f >= 0)
-            s += rows.jac[e][0] * y[3 * f] + rows.jac[e][1] * y[3 * f + 1] + rows.jac[e][2] * y[3 * f + 2];
-        W(i, j) = s;
-      }
-    }
+  // W_ij = J_i Y_j over row i's stencil: the creature's 96 rows of 8 nodes each cost 110k
+  // multiply-adds a build, at every SQP iteration.
+  fill_symmetric(W, [&](int i, int j) {
+    const double* y = columns[j];
+    double s = 0;
+    for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
+      if (const int f = free_index[rows.nodes[e]]; f >= 0)
+        s += rows.jac[e][0] * y[3 * f] + rows.jac[e][1] * y[3 * f + 1] + rows.jac[e][2] * y[3 * f + 2];
+    return s;
   });
-  mirror_lower(W);
   for (int i = 0; i < m; ++i) m_diagonal[i] = W(i, i);
   m_k3 = 0;
   m_dense = true;
@@ -83,24 +95,12 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
 
 void Delassus::form_W_from_T(Eigen::Ref<MatX> W) const {
   const Eigen::Map<MatX> T = this->T();
-  const int m = size();
-  // As build_direct: the lower triangle in parallel, then mirrored.
-  tbb::parallel_for(tbb::blocked_range<int>(0, m, 4), [&](const tbb::blocked_range<int>& range) {
-    for (int j = range.begin(); j < range.end(); ++j) {
-      const double* t = T.col(j).data();
-      for (int i = j; i < m; ++i) {
-        double s = 0;
-        for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(Eigen::Map<const Vec3>(t + 3 * m_local[e]));
-        W(i, j) = s;
-      }
-    }
+  fill_symmetric(W, [&](int i, int j) {
+    const double* t = T.col(j).data();
+    double s = 0;
+    for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(Eigen::Map<const Vec3>(t + 3 * m_local[e]));
+    return s;
   });
-  mirror_lower(W);
-}
-
-void Delassus::mirror_lower(Eigen::Ref<MatX> W) {
-  for (Eigen::Index j = 0; j < W.cols(); ++j)
-    for (Eigen::Index i = j + 1; i < W.rows(); ++i) W(j, i) = W(i, j);
 }
 
 void Delassus::multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const {

@@ -53,9 +53,6 @@ class Delassus {
   Eigen::Map<MatX> W() const { return m_W_storage.view(size(), size()); }
   Eigen::Map<VecX> c() const { return m_c_storage.vector(size()); }
   Eigen::Map<VecX> state() const { return m_state_storage.vector(m_dense ? size() : m_k3); }
-  // W_ji = W_ij for i > j: W is symmetric in exact arithmetic, and PGS's column updates
-  // assume it; only the lower triangle is computed.
-  static void mirror_lower(Eigen::Ref<MatX> W);
   // W = Jc T: entry (i, j), i >= j, over row i's stencil and column j of T; then mirrored.
   void form_W_from_T(Eigen::Ref<MatX> W) const;
 

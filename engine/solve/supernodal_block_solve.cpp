@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "engine/solve/supernode_view.hpp"
+
 namespace sinew {
 
 namespace {
@@ -17,14 +19,8 @@ constexpr int kMaxWidth = SupernodalBlockSolve::kMaxWidth;
 template <int W>
 using Row = Eigen::Map<Eigen::Matrix<double, 1, W>>;
 
-struct Supernode {
-  int first, columns, height;
-  const double* L;   // height x columns, column-major
-  const int* rows;   // its rows of L, the triangle's first
-};
-
 template <int W>
-void forward(const Supernode& s, double* y, const int* supernode_of, char* nonzero) {
+void forward(const SupernodeView& s, double* y, const int* supernode_of, char* nonzero) {
   const auto row = [y](int r) { return Row<W>(y + static_cast<size_t>(r) * W); };
   // The triangle: y_k /= L_kk, then the rows below k within the triangle.
   for (int k = 0; k < s.columns; ++k) {
@@ -50,7 +46,7 @@ void forward(const Supernode& s, double* y, const int* supernode_of, char* nonze
 }
 
 template <int W>
-void backward(const Supernode& s, double* y) {
+void backward(const SupernodeView& s, double* y) {
   const auto row = [y](int r) { return Row<W>(y + static_cast<size_t>(r) * W); };
   // y_k -= sum over the rows below of L_rk y_r, two columns at a time.
   int k = 0;
@@ -84,19 +80,11 @@ void backward(const Supernode& s, double* y) {
 template <int W>
 void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, char* nonzero) {
   const int nsuper = static_cast<int>(L.nsuper);
-  const int* super = static_cast<const int*>(L.super);
-  const int* pi = static_cast<const int*>(L.pi);
-  const int* px = static_cast<const int*>(L.px);
-  const int* rows = static_cast<const int*>(L.s);
-  const double* values = static_cast<const double*>(L.x);
-  const auto supernode = [&](int s) {
-    return Supernode{super[s], super[s + 1] - super[s], pi[s + 1] - pi[s], values + px[s], rows + pi[s]};
-  };
   // Forward: L y = P b; a supernode the block has not reached is zero and is skipped.
   for (int s = 0; s < nsuper; ++s)
-    if (nonzero[s]) forward<W>(supernode(s), y, supernode_of, nonzero);
+    if (nonzero[s]) forward<W>(supernode_view(L, s), y, supernode_of, nonzero);
   // Backward: L^T z = y.
-  for (int s = nsuper - 1; s >= 0; --s) backward<W>(supernode(s), y);
+  for (int s = nsuper - 1; s >= 0; --s) backward<W>(supernode_view(L, s), y);
 }
 
 }  // namespace

@@ -5,23 +5,11 @@
 #include <algorithm>
 #include <numeric>
 
+#include "engine/solve/supernode_view.hpp"
+
 namespace sinew {
 
 namespace {
-
-struct SupernodeView {
-  int first, columns, height;
-  const double* L;  // height x columns, column-major
-  const int* rows;  // its rows of L, the triangle's first
-};
-
-SupernodeView view_of(const cholmod_factor& L, int s) {
-  const int* super = static_cast<const int*>(L.super);
-  const int* pi = static_cast<const int*>(L.pi);
-  const int* px = static_cast<const int*>(L.px);
-  return SupernodeView{super[s], super[s + 1] - super[s], pi[s + 1] - pi[s],
-                   static_cast<const double*>(L.x) + px[s], static_cast<const int*>(L.s) + pi[s]};
-}
 
 // y_s = L_ss^-1 y_s, then the rows below take -L_bs y_s (through `gather`, height rows).
 void tree_forward(const SupernodeView& s, double* y, double* gather) {
@@ -67,7 +55,7 @@ void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
   std::vector<std::vector<int>> children(count);
   m_max_below = 0;
   for (int s = 0; s < count; ++s) {
-    const SupernodeView sn = view_of(L, s);
+    const SupernodeView sn = supernode_view(L, s);
     cost[s] = static_cast<long>(sn.columns) * sn.height;
     m_max_below = std::max(m_max_below, sn.height - sn.columns);
     if (sn.height > sn.columns) parent[s] = supernode_of[sn.rows[sn.columns]];
@@ -149,18 +137,18 @@ void SupernodalTreeSolve::solve(const cholmod_factor& L, const double* b, double
     for (const int k : m_top_rows) own[k] = 0;
     for (const Range& range : m_bins[bin]) {
       std::copy(y + super[range.first], y + super[range.last + 1], own + super[range.first]);
-      for (int s = range.first; s <= range.last; ++s) tree_forward(view_of(L, s), own, m_gather[bin].data());
+      for (int s = range.first; s <= range.last; ++s) tree_forward(supernode_view(L, s), own, m_gather[bin].data());
       std::copy(own + super[range.first], own + super[range.last + 1], y + super[range.first]);
     }
   };
   tbb::parallel_invoke([&] { bin_forward(0); }, [&] { bin_forward(1); });
   for (const int k : m_top_rows) y[k] = (y[k] + m_bin_y[0][k]) + m_bin_y[1][k];
-  for (const int s : m_top) tree_forward(view_of(L, s), y, m_gather[0].data());
-  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) tree_backward(view_of(L, *s), y, m_gather[0].data());
+  for (const int s : m_top) tree_forward(supernode_view(L, s), y, m_gather[0].data());
+  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) tree_backward(supernode_view(L, *s), y, m_gather[0].data());
   const auto bin_backward = [&](int bin) {
     const auto& ranges = m_bins[bin];
     for (auto range = ranges.rbegin(); range != ranges.rend(); ++range)
-      for (int s = range->last; s >= range->first; --s) tree_backward(view_of(L, s), y, m_gather[bin].data());
+      for (int s = range->last; s >= range->first; --s) tree_backward(supernode_view(L, s), y, m_gather[bin].data());
   };
   tbb::parallel_invoke([&] { bin_backward(0); }, [&] { bin_backward(1); });
   for (int k = 0; k < m_n; ++k) x[perm[k]] = y[k];

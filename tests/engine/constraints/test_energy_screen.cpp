@@ -39,6 +39,15 @@ VecX bent(const Model& model, double bend) {
   return x;
 }
 
+// x with every coordinate moved by up to `amplitude`, uniformly at random.
+VecX shaken(const VecX& x, double amplitude, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  VecX out = x;
+  for (Eigen::Index i = 0; i < out.size(); ++i) out[i] += amplitude * u(rng);
+  return out;
+}
+
 VecX translated(const VecX& x, const Vec3& by) {
   VecX out = x;
   for (Eigen::Index n = 0; n < x.size() / 3; ++n) out.segment<3>(3 * n) += by;
@@ -144,10 +153,7 @@ TEST_CASE("energy screen: the bound holds far from the origin, where round-off g
     const VecX x_ref = translated(bent(model, 0.4), away);
     EnergyScreen screen;
     record_energy_reference(model, x_ref, exact_ratios(model, x_ref), screen);
-    std::mt19937 rng(4);
-    std::uniform_real_distribution<double> u(-1, 1);
-    VecX x = x_ref;
-    for (int i = 0; i < x.size(); ++i) x[i] += 1e-5 * u(rng);
+    const VecX x = shaken(x_ref, 1e-5, 4);
     int below = 0;
     for (int e = 0; e < model.num_elements; ++e)
       if (model.element_Umax[e] > 0 && energy_ratio_bound(model, screen, x, e) < exact_ratio(model, x, e)) ++below;
@@ -181,10 +187,7 @@ TEST_CASE("energy screen: the same rows and worst value as evaluating every elem
   for (const double bend : {0.4, 0.02}) {
   CAPTURE(bend);
   const VecX x_ref = bent(model, bend);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-1, 1);
-  VecX x = x_ref;
-  for (int i = 0; i < x.size(); ++i) x[i] += 1e-4 * u(rng);
+  const VecX x = shaken(x_ref, 1e-4, 5);
   const double margin = 0.05;
   const std::vector<double> ratio = exact_ratios(model, x);
   const int quiet = static_cast<int>(std::min_element(ratio.begin(), ratio.end(), [&](double a, double b) {
@@ -262,10 +265,7 @@ TEST_CASE("energy screen: an element evaluated exactly becomes its own reference
   const VecX x_ref = bent(model, 0.02);
   EnergyScreen screen;
   record_energy_reference(model, x_ref, exact_ratios(model, x_ref), screen);
-  std::mt19937 rng(12);
-  std::uniform_real_distribution<double> u(-1, 1);
-  VecX x = x_ref;
-  for (int i = 0; i < x.size(); ++i) x[i] += 1e-2 * u(rng);
+  const VecX x = shaken(x_ref, 1e-2, 12);
   RowTable rows;
   add_energy_limit_rows(model, x, 0.05, {}, rows, &screen);
   int loose = 0;

@@ -97,7 +97,9 @@ TEST_CASE("supernodal tree solve: CHOLMOD's solution, every supernode once, a sp
       tree.solve(factor.L(), b.data(), x.data());
       // kappa(A) is a few tens: both within a few hundred ulps of the exact solution.
       CHECK((x - reference).norm() <= 1e-12 * reference.norm());
-      CHECK((A * x - b).norm() <= 1e-13 * b.norm() * 60);
+      // A backward-stable solve leaves a residual of a few hundred eps |A| |x|; |A|_2 <= 92
+      // (Gershgorin: 60 on the diagonal, 26 neighbours of row sum 1.2); 1e-13 is 450 eps.
+      CHECK((A * x - b).norm() <= 1e-13 * 92 * x.norm());
     }
   }
 }
