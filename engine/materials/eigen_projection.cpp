@@ -1,6 +1,5 @@
 #include "engine/materials/eigen_projection.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <cmath>
 
@@ -45,35 +44,42 @@ Mat9 assemble_eigensystem(const SvdEigensystem& system, bool clamp) {
   return pairs.vectors * values.asDiagonal() * pairs.vectors.transpose();
 }
 
+namespace {
+
+// vec(U (e_i e_j^T + sign e_j e_i^T) V^T) / sqrt 2, entry by entry: a twist (sign -1) or
+// flip (+1) mode without the two 3x3 products of vec_in_frame.
+Vec9 pair_mode(const RotationVariantSvd& svd, int i, int j, double sign) {
+  const double r = 1 / std::sqrt(2.0);
+  Vec9 q;
+  for (int b = 0; b < 3; ++b)
+    for (int a = 0; a < 3; ++a)
+      q(3 * b + a) = r * (svd.U(a, i) * svd.V(b, j) + sign * svd.U(a, j) * svd.V(b, i));
+  return q;
+}
+
+// Sylvester's criterion: all leading minors positive.
+bool positive_definite(const Mat3& A) {
+  const double minor2 = A(0, 0) * A(1, 1) - A(0, 1) * A(1, 0);
+  return A(0, 0) > 0 && minor2 > 0 && A.determinant() > 0;
+}
+
+}  // namespace
+
 Mat9 remove_negative_modes(const Mat9& H, const SvdEigensystem& system) {
   Mat9 out = H;
-  auto remove = [&](double value, const Mat3& Q) {
-    const Vec9 q = vec_in_frame(system.svd, Q);
-    out.noalias() -= value * q * q.transpose();
-  };
-  const double r = 1 / std::sqrt(2.0);
+  auto remove = [&](double value, const Vec9& q) { out.noalias() -= value * q * q.transpose(); };
   for (int k = 0; k < 3; ++k) {
-    if (system.twist(k) >= 0 && system.flip(k) >= 0) continue;
     const int i = k == 0 ? 1 : 0;
     const int j = k == 2 ? 1 : 2;
-    Mat3 Q = Mat3::Zero();
-    Q(i, j) = r;
-    if (system.twist(k) < 0) {
-      Q(j, i) = -r;
-      remove(system.twist(k), Q);
-    }
-    if (system.flip(k) < 0) {
-      Q(j, i) = r;
-      remove(system.flip(k), Q);
-    }
+    if (system.twist(k) < 0) remove(system.twist(k), pair_mode(system.svd, i, j, -1));
+    if (system.flip(k) < 0) remove(system.flip(k), pair_mode(system.svd, i, j, 1));
   }
-  // The scaling block is PSD when its LDL^T has no negative pivot; only then skip its modes.
-  const Eigen::LDLT<Mat3> ldlt(system.scaling);
-  if (ldlt.info() != Eigen::Success || (ldlt.vectorD().array() < 0).any()) {
+  // A positive definite scaling block has no negative mode; otherwise its eigenvalues decide.
+  if (!positive_definite(system.scaling)) {
     const Eigen::SelfAdjointEigenSolver<Mat3> scaling(system.scaling);
     for (int m = 0; m < 3; ++m)
       if (scaling.eigenvalues()(m) < 0)
-        remove(scaling.eigenvalues()(m), Mat3(scaling.eigenvectors().col(m).asDiagonal()));
+        remove(scaling.eigenvalues()(m), vec_in_frame(system.svd, Mat3(scaling.eigenvectors().col(m).asDiagonal())));
   }
   return out;
 }

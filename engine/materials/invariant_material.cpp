@@ -58,7 +58,8 @@ Mat9 invariant_hessian(const Mat3& F, const InvariantTerms& t) {
 }
 
 Mat9 InvariantMaterial::projected_hessian(const Mat3& F) const {
-  return remove_negative_modes(hessian(F), eigensystem(F));
+  const InvariantTerms t = terms_at(*this, F);  // once for both: a log and two divisions (stable)
+  return remove_negative_modes(invariant_hessian(F, t), invariant_eigensystem(F, t));
 }
 
 SvdEigensystem InvariantMaterial::eigensystem(const Mat3& F) const {
