@@ -2,6 +2,9 @@
 
 #include <algorithm>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace sinew {
 
 namespace {
@@ -24,6 +27,46 @@ RowColumnCache::Entry* RowColumnCache::find(uint64_t key) {
 void RowColumnCache::reset() {
   for (const auto& [key, slot] : m_index) m_free_slots.push_back(slot);
   m_index.clear();
+  for (const int f : m_nodes) m_node_slot[f] = -1;
+  m_nodes.clear();
+}
+
+void RowColumnCache::collect_new_nodes(const RowTable& rows, const std::vector<int>& free_index) {
+  for (int i = 0; i < rows.size(); ++i) {
+    if (rows.kind[i] != RowKind::Energy) continue;
+    for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
+      if (const int f = free_index[rows.nodes[e]]; f >= 0) m_new_nodes.push_back(f);
+  }
+  std::sort(m_new_nodes.begin(), m_new_nodes.end());
+  m_new_nodes.erase(std::unique(m_new_nodes.begin(), m_new_nodes.end()), m_new_nodes.end());
+}
+
+bool RowColumnCache::has_node_columns(const RowTable& rows, const std::vector<int>& free_index, int i) const {
+  for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e) {
+    const int f = free_index[rows.nodes[e]];
+    if (f >= 0 && m_node_slot[f] < 0 &&
+        !std::binary_search(m_new_nodes.begin(), m_new_nodes.end(), f))
+      return false;
+  }
+  return true;
+}
+
+void RowColumnCache::combine_node_columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
+                                          std::vector<const double*>& columns) {
+  const int count = static_cast<int>(m_derived.size());
+  Eigen::Map<MatX> Y = m_derived_columns.view(free_dofs, count);
+  const Eigen::Map<MatX> N = m_node_columns.view(free_dofs, 3 * static_cast<Eigen::Index>(m_nodes.size()));
+  // One row per task, its entries summed in stencil order: the same for any thread count.
+  tbb::parallel_for(tbb::blocked_range<int>(0, count, 1), [&](const tbb::blocked_range<int>& range) {
+    for (int k = range.begin(); k < range.end(); ++k) {
+      const int i = m_derived[k];
+      auto y = Y.col(k);
+      y.setZero();
+      for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
+        if (const int f = free_index[rows.nodes[e]]; f >= 0) y.noalias() += N.middleCols<3>(3 * m_node_slot[f]) * rows.jac[e];
+    }
+  });
+  for (int k = 0; k < count; ++k) columns[m_derived[k]] = Y.col(k).data();
 }
 
 void RowColumnCache::ensure_slots(int entries) {

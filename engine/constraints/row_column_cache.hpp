@@ -5,6 +5,13 @@
 // solve per row (delassus.hpp, build_direct): contacts on a plane or a kinematic plate keep
 // their Jacobian across SQP iterations (the embedded weights and the normal do not move),
 // so only the rows that changed, mostly energy limits, cost solves after the first iteration.
+// Optionally (`node_columns`), energy-limit rows, whose Jacobian moves at every iteration
+// while their 8 nodes stay, take y_i from node columns instead: H^-1 on the 3 DOFs of each
+// of their nodes, solved with the first call after a factorisation for the nodes of the
+// energy rows present then, and combined as y_i = sum over the row's nodes n of
+// (H^-1 E_n) J_in^T (E_n: the node's 3 DOFs; 3 n free-DOF products per row, no solve).
+// Worth it when the factorisation serves several steps (refactor_interval > 1): the
+// solves then happen once, in one large batch, in the step that factorises.
 #include <algorithm>
 #include <cstdint>
 #include <deque>
@@ -25,11 +32,14 @@ class RowColumnCache {
   // one call `solve_many(B, X)` (X = H^-1 B, X given with B's size) for all the rows without one. `free_index[n]` is
   // the free index of global node n or -1. The pointers hold until the next call or reset().
   // Returns the columns solved.
+  // Returns the columns solved (3 per new node column).
   template <typename SolveMany>
   int columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany&& solve_many,
-              std::vector<const double*>& columns);
+              std::vector<const double*>& columns, bool node_columns = false);
 
   int size() const { return static_cast<int>(m_index.size()); }
+  // Free nodes holding node columns (0 after reset()).
+  int node_count() const { return static_cast<int>(m_nodes.size()); }
 
  private:
   struct Entry {
@@ -48,10 +58,18 @@ class RowColumnCache {
   // slot's column kept once used, the cache allocates only when it holds more entries at
   // once than ever before.
   void ensure_slots(int entries);
-  // Solves the rows of m_missing in one call and stores their columns.
+  // Solves the rows of m_missing and the node columns of m_new_nodes in one call and
+  // stores them.
   template <typename SolveMany>
   void solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany& solve_many,
                      std::vector<const double*>& columns);
+  // Node columns: the free nodes of the energy rows not yet held (m_new_nodes), and
+  // whether every free node of row i has (or is about to have) its columns.
+  void collect_new_nodes(const RowTable& rows, const std::vector<int>& free_index);
+  bool has_node_columns(const RowTable& rows, const std::vector<int>& free_index, int i) const;
+  // y_i from node columns for the rows of m_derived (in parallel, one row each).
+  void combine_node_columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
+                            std::vector<const double*>& columns);
 
   // The entry of a key, or nullptr.
   Entry* find(uint64_t key);
@@ -65,29 +83,43 @@ class RowColumnCache {
   std::vector<int> m_missing;
   std::vector<uint64_t> m_kept;
   ScratchMatrix m_B, m_X;
+  // Node columns: m_node_slot[f] is free node f's position in m_nodes (its 3 columns at
+  // 3 slot in m_node_columns) or -1; rows derived from them this call, and their columns.
+  std::vector<int> m_node_slot, m_nodes, m_new_nodes, m_derived;
+  ScratchMatrix m_node_columns, m_derived_columns;
 };
 
 template <typename SolveMany>
 int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
-                            SolveMany&& solve_many, std::vector<const double*>& columns) {
+                            SolveMany&& solve_many, std::vector<const double*>& columns, bool node_columns) {
   const int m = rows.size();
+  // The first call after reset() chooses the nodes (the cache is empty only then: every
+  // call keeps at least its own rows).
+  const bool first = m_index.empty() && m_nodes.empty();
   ++m_call;
   ensure_slots(2 * m);
   columns.assign(m, nullptr);
   m_missing.clear();
   m_kept.clear();
+  m_new_nodes.clear();
+  m_derived.clear();
+  if (node_columns) m_node_slot.resize(free_dofs / 3, -1);  // reset() leaves every entry -1
+  if (node_columns && first) collect_new_nodes(rows, free_index);
   for (int i = 0; i < m; ++i) {
     Entry* entry = find(rows.key[i]);
     if (entry && matches(*entry, rows, i, free_dofs)) {
       entry->last_call = m_call;
       columns[i] = entry->y.data();
       m_kept.push_back(rows.key[i]);
+    } else if (node_columns && rows.kind[i] == RowKind::Energy && has_node_columns(rows, free_index, i)) {
+      m_derived.push_back(i);
     } else {
       m_missing.push_back(i);
     }
   }
-  const int solved = static_cast<int>(m_missing.size());
+  const int solved = static_cast<int>(m_missing.size() + 3 * m_new_nodes.size());
   if (solved > 0) solve_missing(rows, free_index, free_dofs, solve_many, columns);
+  if (!m_derived.empty()) combine_node_columns(rows, free_index, free_dofs, columns);
   evict(m);
   return solved;
 }
@@ -95,17 +127,26 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
 template <typename SolveMany>
 void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
                                    SolveMany& solve_many, std::vector<const double*>& columns) {
-  const int solved = static_cast<int>(m_missing.size());
+  const int row_count = static_cast<int>(m_missing.size()), node_count = static_cast<int>(m_new_nodes.size());
+  const int solved = row_count + 3 * node_count;
   Eigen::Map<MatX> B = m_B.view(free_dofs, solved), X = m_X.view(free_dofs, solved);
   B.setZero();
-  for (int k = 0; k < solved; ++k) {
+  for (int k = 0; k < row_count; ++k) {
     const int i = m_missing[k];
     for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
       if (const int f = free_index[rows.nodes[e]]; f >= 0) B.block<3, 1>(3 * f, k) += rows.jac[e];
   }
+  for (int k = 0; k < node_count; ++k) B.block<3, 3>(3 * m_new_nodes[k], row_count + 3 * k).setIdentity();
   solve_many(B, X);
+  if (node_count > 0) {  // only on the first call after reset(): nothing held yet
+    m_node_columns.view(free_dofs, 3 * node_count) = X.rightCols(3 * node_count);
+    for (int k = 0; k < node_count; ++k) {
+      m_node_slot[m_new_nodes[k]] = static_cast<int>(m_nodes.size());
+      m_nodes.push_back(m_new_nodes[k]);
+    }
+  }
   std::sort(m_kept.begin(), m_kept.end());
-  for (int k = 0; k < solved; ++k) {
+  for (int k = 0; k < row_count; ++k) {
     const int i = m_missing[k];
     columns[i] = X.col(k).data();
     // A key kept for another row of this call keeps its entry: columns[] points into it.

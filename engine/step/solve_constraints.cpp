@@ -132,8 +132,9 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   const auto solve_many = [&](const auto& B, auto& X) { solver.solve_many(B, X); };
   if (3 * static_cast<int>(touched.size()) > m) {
+    // Energy rows from node columns when the factorisation serves several steps.
     const int solved = s.row_columns.columns(s.rows, model.free_index, 3 * model.num_free, solve_many,
-                                             s.row_column_scratch);
+                                             s.row_column_scratch, model.solver.refactor_interval > 1);
     s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch);
     per_row = true;
     return solved;
@@ -350,8 +351,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     const bool one_solve = k > 0 && per_row && shared_solves_on &&
                            static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
     if (k > 0) {
-      multiply_system(s.system, v_free, sc.residual);
-      sc.residual = s.rhs - sc.residual;
+      // b - A v_k from b - A v_k-1, as v_k = v_k-1 + alpha d and the merit kept A d: one
+      // product with A per iteration fewer (the creature: 1950 DOFs, 108k entries, 0.035 ms each).
+      sc.residual.noalias() -= alpha * sc.sqp_product;
       if (!one_solve) {
         sc.step.setZero(v_free.size());
         solver.solve(sc.residual, sc.step);
@@ -414,7 +416,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     merit.raise_weights(s.rows);
     sc.sqp_direction = v_next - v_free;
     multiply_system(s.system, sc.sqp_direction, sc.sqp_product);
-    if (k == 0) {  // k > 0: sc.residual = b - A v_k already
+    if (k == 0) {  // k > 0: sc.residual = b - A v_k already (updated above)
       multiply_system(s.system, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
     }

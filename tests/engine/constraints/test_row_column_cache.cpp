@@ -1,6 +1,6 @@
 // RowColumnCache: y_i = H^-1 J_i^T per row, solved once per factorisation for a row whose
 // stencil does not change, solved again when it does; the Delassus matrix built from the
-// cached columns equals J H^-1 J^T.
+// cached columns equals J H^-1 J^T; energy rows from node columns equal them too.
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
@@ -48,11 +48,11 @@ struct Fixture {
         if (const int f = free_index[rows.nodes[e]]; f >= 0) J.block<1, 3>(i, 3 * f) += rows.jac[e].transpose();
     return J;
   }
-  int fill(RowColumnCache& cache, std::vector<const double*>& columns) {
+  int fill(RowColumnCache& cache, std::vector<const double*>& columns, bool node_columns = false) {
     return cache.columns(rows, free_index, dofs(), [this](const auto& B, auto& X) {
       solves += static_cast<int>(B.cols());
       X = llt.solve(B);
-    }, columns);
+    }, columns, node_columns);
   }
   // Largest |y_i - H^-1 J_i^T| over the rows, relative to the largest column entry.
   double column_error(const std::vector<const double*>& columns) const {
@@ -149,4 +149,50 @@ TEST_CASE("row_column_cache: a new factorisation of the step system empties the 
   REQUIRE(state.row_columns.size() == 1);
   REQUIRE(factorize_step_system(world.model(), solver, state));
   CHECK(state.row_columns.size() == 0);
+}
+
+TEST_CASE("row_column_cache: energy rows from node columns are H^-1 J^T and cost no solve while their nodes stay") {
+  Fixture p;
+  // Rows 0-5 become energy rows: rows 0-4 span nodes 0-6 (node 0 fixed: 6 free nodes).
+  for (int i = 0; i < 6; ++i) p.rows.kind[i] = RowKind::Energy;
+  RowTable first_rows = p.rows;
+  p.rows.kind[5] = RowKind::Contact;  // row 5 (nodes 5-8) joins the energy rows later
+  RowColumnCache cache;
+  std::vector<const double*> columns;
+  // First call after a factorisation: the 15 other rows one column each, the energy rows'
+  // 6 free nodes 3 columns each, no energy row solved on its own.
+  CHECK(p.fill(cache, columns, true) == 15 + 3 * 6);
+  CHECK(cache.node_count() == 6);
+  CHECK(p.column_error(columns) < 1e-12);
+  // The energy rows' Jacobians move (as at every SQP iteration): nothing solved, still exact.
+  std::mt19937 rng(5);
+  std::normal_distribution<double> normal;
+  for (int i = 0; i < 5; ++i)
+    for (int e = p.rows.begin[i]; e < p.rows.begin[i + 1]; ++e) p.rows.jac[e] += 0.1 * Vec3(normal(rng), normal(rng), normal(rng));
+  CHECK(p.fill(cache, columns, true) == 0);
+  CHECK(p.column_error(columns) < 1e-12);
+  // An energy row reaching nodes without columns (row 5: nodes 7, 8) is solved on its own,
+  // and no node columns are added before the next factorisation.
+  p.rows.kind[5] = RowKind::Energy;
+  p.rows.jac[p.rows.begin[5]] *= 2;
+  CHECK(p.fill(cache, columns, true) == 1);
+  CHECK(cache.node_count() == 6);
+  CHECK(p.column_error(columns) < 1e-12);
+  // W from a mix of kept, solved and node-derived columns equals J H^-1 J^T.
+  Delassus W;
+  W.build_direct(p.rows, p.free_index, columns);
+  const MatX J = p.jacobian();
+  const MatX expected = J * p.llt.solve(MatX(J.transpose()));
+  CHECK((W.matrix() - expected).lpNorm<Eigen::Infinity>() < 1e-12 * expected.lpNorm<Eigen::Infinity>());
+  // A new factorisation: the node columns go with the row columns and are chosen afresh.
+  cache.reset();
+  CHECK(cache.node_count() == 0);
+  CHECK(p.fill(cache, columns, true) == 14 + 3 * 8);  // 6 energy rows now, on nodes 1-8
+  CHECK(p.column_error(columns) < 1e-12);
+  // Without node columns energy rows are rows like any other.
+  RowColumnCache plain;
+  Fixture q;
+  q.rows = first_rows;
+  CHECK(q.fill(plain, columns) == 20);
+  CHECK(plain.node_count() == 0);
 }
