@@ -29,16 +29,28 @@ void RowColumnCache::reset() {
   m_index.clear();
   for (const int f : m_nodes) m_node_slot[f] = -1;
   m_nodes.clear();
+  m_nodes_chosen = false;
 }
 
-void RowColumnCache::collect_new_nodes(const RowTable& rows, const std::vector<int>& free_index) {
+void RowColumnCache::collect_new_nodes(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
+                                       int node_budget) {
+  m_nodes_chosen = true;
+  // Kept storage: a warm step allocates only when more nodes hold columns than ever before.
+  m_new_nodes.reserve(free_dofs / 3);
+  m_nodes.reserve(free_dofs / 3);
+  m_derived.reserve(rows.size());
+  int energy_rows = 0;
   for (int i = 0; i < rows.size(); ++i) {
     if (rows.kind[i] != RowKind::Energy) continue;
+    ++energy_rows;
     for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
       if (const int f = free_index[rows.nodes[e]]; f >= 0) m_new_nodes.push_back(f);
   }
   std::sort(m_new_nodes.begin(), m_new_nodes.end());
   m_new_nodes.erase(std::unique(m_new_nodes.begin(), m_new_nodes.end()), m_new_nodes.end());
+  const double columns = 3.0 * static_cast<double>(m_new_nodes.size());
+  if (columns > static_cast<double>(node_budget) * energy_rows || columns * free_dofs > kNodeColumnEntries)
+    m_new_nodes.clear();
 }
 
 bool RowColumnCache::has_node_columns(const RowTable& rows, const std::vector<int>& free_index, int i) const {

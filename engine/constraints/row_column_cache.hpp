@@ -5,13 +5,15 @@
 // solve per row (delassus.hpp, build_direct): contacts on a plane or a kinematic plate keep
 // their Jacobian across SQP iterations (the embedded weights and the normal do not move),
 // so only the rows that changed, mostly energy limits, cost solves after the first iteration.
-// Optionally (`node_columns`), energy-limit rows, whose Jacobian moves at every iteration
+// Optionally (`node_budget` > 0), energy-limit rows, whose Jacobian moves at every iteration
 // while their 8 nodes stay, take y_i from node columns instead: H^-1 on the 3 DOFs of each
 // of their nodes, solved with the first call after a factorisation for the nodes of the
 // energy rows present then, and combined as y_i = sum over the row's nodes n of
-// (H^-1 E_n) J_in^T (E_n: the node's 3 DOFs; 3 n free-DOF products per row, no solve).
+// (H^-1 E_n) J_in^T (E_n: the node's 3 DOFs; 3 n multiply-adds per node, no solve).
 // Worth it when the factorisation serves several steps (refactor_interval > 1): the
-// solves then happen once, in one large batch, in the step that factorises.
+// solves then happen once, in one large batch, in the step that factorises. Taken only
+// when the node columns number at most `node_budget` per energy row and hold at most
+// kNodeColumnEntries values; else the energy rows are solved per row like the others.
 #include <algorithm>
 #include <cstdint>
 #include <deque>
@@ -32,10 +34,11 @@ class RowColumnCache {
   // one call `solve_many(B, X)` (X = H^-1 B, X given with B's size) for all the rows without one. `free_index[n]` is
   // the free index of global node n or -1. The pointers hold until the next call or reset().
   // Returns the columns solved.
-  // Returns the columns solved (3 per new node column).
+  // Returns the columns solved (3 per new node).
   template <typename SolveMany>
   int columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany&& solve_many,
-              std::vector<const double*>& columns, bool node_columns = false);
+              std::vector<const double*>& columns, int node_budget = 0);
+  static constexpr double kNodeColumnEntries = 1 << 24;  // 128 MB of node columns at most
 
   int size() const { return static_cast<int>(m_index.size()); }
   // Free nodes holding node columns (0 after reset()).
@@ -65,7 +68,8 @@ class RowColumnCache {
                      std::vector<const double*>& columns);
   // Node columns: the free nodes of the energy rows not yet held (m_new_nodes), and
   // whether every free node of row i has (or is about to have) its columns.
-  void collect_new_nodes(const RowTable& rows, const std::vector<int>& free_index);
+  // Empties m_new_nodes again when they exceed the budget (see the class comment).
+  void collect_new_nodes(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, int node_budget);
   bool has_node_columns(const RowTable& rows, const std::vector<int>& free_index, int i) const;
   // y_i from node columns for the rows of m_derived (in parallel, one row each).
   void combine_node_columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
@@ -86,16 +90,15 @@ class RowColumnCache {
   // Node columns: m_node_slot[f] is free node f's position in m_nodes (its 3 columns at
   // 3 slot in m_node_columns) or -1; rows derived from them this call, and their columns.
   std::vector<int> m_node_slot, m_nodes, m_new_nodes, m_derived;
+  bool m_nodes_chosen = false;  // by the first call since reset()
   ScratchMatrix m_node_columns, m_derived_columns;
 };
 
 template <typename SolveMany>
 int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
-                            SolveMany&& solve_many, std::vector<const double*>& columns, bool node_columns) {
+                            SolveMany&& solve_many, std::vector<const double*>& columns, int node_budget) {
   const int m = rows.size();
-  // The first call after reset() chooses the nodes (the cache is empty only then: every
-  // call keeps at least its own rows).
-  const bool first = m_index.empty() && m_nodes.empty();
+  const bool node_columns = node_budget > 0;
   ++m_call;
   ensure_slots(2 * m);
   columns.assign(m, nullptr);
@@ -104,7 +107,7 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
   m_new_nodes.clear();
   m_derived.clear();
   if (node_columns) m_node_slot.resize(free_dofs / 3, -1);  // reset() leaves every entry -1
-  if (node_columns && first) collect_new_nodes(rows, free_index);
+  if (node_columns && !m_nodes_chosen) collect_new_nodes(rows, free_index, free_dofs, node_budget);
   for (int i = 0; i < m; ++i) {
     Entry* entry = find(rows.key[i]);
     if (entry && matches(*entry, rows, i, free_dofs)) {

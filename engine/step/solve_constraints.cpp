@@ -135,9 +135,13 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
   const auto solve_many = [&](const auto& B, auto& X) { solver.solve_many(B, X); };
   if (3 * static_cast<int>(touched.size()) > m) {
-    // Energy rows from node columns when the factorisation serves several steps.
+    // Energy rows from node columns when a CHOLMOD factorisation serves several steps (PCG
+    // keeps no factor: its columns would be solved again every step, and only to its
+    // tolerance), at most 8 node columns per energy row and step of its life (the
+    // creature's: 22-28 nodes for 3-6 rows at refactor_interval 4).
+    const int node_budget = model.solver.refactor_interval > 1 && solver.uses_cholmod() ? 8 * model.solver.refactor_interval : 0;
     const int solved = s.row_columns.columns(s.rows, model.free_index, 3 * model.num_free, solve_many,
-                                             s.row_column_scratch, model.solver.refactor_interval > 1);
+                                             s.row_column_scratch, node_budget);
     s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch);
     per_row = true;
     return solved;
@@ -385,8 +389,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         s.delassus.multiply(lambda0, approximate_w);
       }
       if (one_solve) {
-        // m dot products of length n (the creature: 72 x 1950), one row per task: the same
-        // sums for any thread count.
+        // m dot products of length n (the creature: 72 x 1950), each summed by one task:
+        // the same sums for any thread count.
         const Eigen::Index n = v_free.size();
         tbb::parallel_for(tbb::blocked_range<int>(0, m, 8), [&](const tbb::blocked_range<int>& range) {
           for (int i = range.begin(); i < range.end(); ++i)
