@@ -33,8 +33,8 @@ class RowColumnCache {
   // Points columns[i] at y_i (3 free-DOF values) for every row of `rows`: kept, or solved by
   // one call `solve_many(B, X)` (X = H^-1 B, X given with B's size) for all the rows without one. `free_index[n]` is
   // the free index of global node n or -1. The pointers hold until the next call or reset().
-  // Returns the columns solved.
-  // Returns the columns solved (3 per new node).
+  // Returns the columns solved (3 per new node). Node columns are full columns, unlike
+  // TouchedInverse's G, which keeps only the touched nodes' rows (combined rows need all).
   template <typename SolveMany>
   int columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany&& solve_many,
               std::vector<const double*>& columns, int node_budget = 0);
