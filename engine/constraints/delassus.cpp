@@ -40,6 +40,7 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
     m_begin.push_back(static_cast<int>(m_local.size()));
   }
   m_diagonal.resize(m);  // size() from here on
+  m_direct = false;
   const auto G = inverse.block();
   Eigen::Map<MatX> T = this->T();
   // Column i of T and W_ii from row i alone: columns in parallel, each summed in the same
@@ -91,6 +92,7 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
   for (int i = 0; i < m; ++i) m_diagonal[i] = W(i, i);
   m_k3 = 0;
   m_dense = true;
+  m_direct = true;
 }
 
 void Delassus::form_W_from_T(Eigen::Ref<MatX> W) const {

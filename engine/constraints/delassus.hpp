@@ -30,6 +30,10 @@ class Delassus {
   // The same with column i of Y at columns[i] (3 free values; row_column_cache.hpp).
   void build_direct(const RowTable& rows, const std::vector<int>& free_index, const std::vector<const double*>& columns);
 
+  // Whether the last build was build_direct with m rows: after RowColumnCache reports the
+  // same columns for the same rows, its W stands as it is.
+  bool built_direct(int m) const { return m_direct && size() == m; }
+
   int size() const { return static_cast<int>(m_diagonal.size()); }
   bool dense() const { return m_dense; }
   double diagonal(int i) const { return m_diagonal[i]; }
@@ -57,6 +61,7 @@ class Delassus {
   void form_W_from_T(Eigen::Ref<MatX> W) const;
 
   bool m_dense = false;
+  bool m_direct = false;  // built by build_direct
   int m_k3 = 0;                       // 3 x touched nodes: T's rows
   std::vector<int> m_begin, m_local;  // rows' stencils in touched-node positions
   std::vector<Vec3> m_jac;

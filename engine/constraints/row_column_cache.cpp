@@ -30,6 +30,25 @@ void RowColumnCache::reset() {
   for (const int f : m_nodes) m_node_slot[f] = -1;
   m_nodes.clear();
   m_nodes_chosen = false;
+  m_previous_keys.clear();
+  m_previous_from_entries = false;
+  m_same_as_previous = false;
+}
+
+void RowColumnCache::remember_call(const RowTable& rows) {
+  const int m = rows.size();
+  // Kept this call means the entry's column is unchanged since the call before stored or
+  // kept it; that call's W used it only if it, too, took every column from an entry.
+  const bool all_kept = static_cast<int>(m_kept.size()) == m;
+  m_same_as_previous = all_kept && m_previous_from_entries && m_previous_keys.size() == static_cast<size_t>(m) &&
+                       std::equal(m_previous_keys.begin(), m_previous_keys.end(), rows.key.begin());
+  m_previous_keys.assign(rows.key.begin(), rows.key.begin() + m);
+  // A stored column is its entry's unless its key appears twice (the rows then share one
+  // entry, and the first one's column stays in the solve's scratch).
+  m_sorted_keys.assign(rows.key.begin(), rows.key.begin() + m);
+  std::sort(m_sorted_keys.begin(), m_sorted_keys.end());
+  m_previous_from_entries =
+      m_derived.empty() && std::adjacent_find(m_sorted_keys.begin(), m_sorted_keys.end()) == m_sorted_keys.end();
 }
 
 void RowColumnCache::collect_new_nodes(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,

@@ -41,6 +41,9 @@ class RowColumnCache {
   static constexpr double kNodeColumnEntries = 1 << 24;  // 128 MB of node columns at most
 
   int size() const { return static_cast<int>(m_index.size()); }
+  // Whether the last call gave every row the very column the call before it gave (the same
+  // keys in the same order, each column kept, none derived): W = J Y is then unchanged.
+  bool same_columns_as_previous_call() const { return m_same_as_previous; }
   // Free nodes holding node columns (0 after reset()).
   int node_count() const { return static_cast<int>(m_nodes.size()); }
 
@@ -91,6 +94,11 @@ class RowColumnCache {
   // 3 slot in m_node_columns) or -1; rows derived from them this call, and their columns.
   std::vector<int> m_node_slot, m_nodes, m_new_nodes, m_derived;
   bool m_nodes_chosen = false;  // by the first call since reset()
+  // The keys of the last call in order, and whether each of its columns was an entry's
+  // (kept or stored; not derived): what same_columns_as_previous_call compares against.
+  std::vector<uint64_t> m_previous_keys, m_sorted_keys;
+  bool m_previous_from_entries = false, m_same_as_previous = false;
+  void remember_call(const RowTable& rows);
   ScratchMatrix m_node_columns, m_derived_columns;
 };
 
@@ -123,6 +131,7 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
   const int solved = static_cast<int>(m_missing.size() + 3 * m_new_nodes.size());
   if (solved > 0) solve_missing(rows, free_index, free_dofs, solve_many, columns);
   if (!m_derived.empty()) combine_node_columns(rows, free_index, free_dofs, columns);
+  remember_call(rows);
   evict(m);
   return solved;
 }

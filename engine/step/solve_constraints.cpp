@@ -142,7 +142,10 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
     const int node_budget = model.solver.refactor_interval > 1 && solver.uses_cholmod() ? 8 * model.solver.refactor_interval : 0;
     const int solved = s.row_columns.columns(s.rows, model.free_index, 3 * model.num_free, solve_many,
                                              s.row_column_scratch, node_budget);
-    s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch);
+    // Contacts on a plane keep their Jacobians, and so their columns, from one SQP
+    // iteration (and step) to the next while the factorisation lasts: W then stands.
+    if (!(s.row_columns.same_columns_as_previous_call() && s.delassus.built_direct(m)))
+      s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch);
     per_row = true;
     return solved;
   }

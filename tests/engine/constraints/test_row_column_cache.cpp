@@ -221,3 +221,83 @@ TEST_CASE("row_column_cache: energy rows from node columns are H^-1 J^T and cost
   CHECK(later.node_count() == 0);
   CHECK(u.column_error(columns) < 1e-12);
 }
+
+namespace {
+
+// The rows of `rows` listed in `order`, in that order.
+RowTable rows_in_order(const RowTable& rows, const std::vector<int>& order) {
+  RowTable out;
+  for (const int i : order) {
+    out.add_row(rows.kind[i], rows.value[i], rows.lo[i], rows.hi[i], rows.key[i]);
+    for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e) out.add_entry(rows.nodes[e], rows.jac[e]);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("row_column_cache: the same columns as the previous call only when W = J Y cannot have changed") {
+  constexpr int kBudget = 24;
+  Fixture p;
+  RowColumnCache cache;
+  std::vector<const double*> columns;
+  p.fill(cache, columns);
+  CHECK_FALSE(cache.same_columns_as_previous_call());  // everything solved
+  p.fill(cache, columns);
+  CHECK(cache.same_columns_as_previous_call());  // nothing changed
+  // W built at the first call still equals J H^-1 J^T: what the solver relies on to skip it.
+  Delassus W;
+  W.build_direct(p.rows, p.free_index, columns);
+  p.fill(cache, columns);
+  REQUIRE(cache.same_columns_as_previous_call());
+  const MatX J = p.jacobian();
+  const MatX expected = J * p.llt.solve(MatX(J.transpose()));
+  CHECK((W.matrix() - expected).lpNorm<Eigen::Infinity>() < 1e-12 * expected.lpNorm<Eigen::Infinity>());
+  // One Jacobian entry moves: solved again, not the same.
+  p.rows.jac[p.rows.begin[3]][2] += 1e-9;
+  p.fill(cache, columns);
+  CHECK_FALSE(cache.same_columns_as_previous_call());
+  p.fill(cache, columns);
+  CHECK(cache.same_columns_as_previous_call());
+  // The same rows in another order: W's rows and columns are permuted.
+  const RowTable forward = p.rows;
+  std::vector<int> order(forward.size());
+  for (int i = 0; i < forward.size(); ++i) order[i] = forward.size() - 1 - i;
+  p.rows = rows_in_order(forward, order);
+  p.fill(cache, columns);
+  CHECK_FALSE(cache.same_columns_as_previous_call());
+  p.rows = forward;
+  p.fill(cache, columns);
+  CHECK_FALSE(cache.same_columns_as_previous_call());
+  // A row fewer: not the same rows.
+  order.resize(forward.size() - 1);
+  for (int i = 0; i + 1 < forward.size(); ++i) order[i] = i;
+  p.rows = rows_in_order(forward, order);
+  p.fill(cache, columns);
+  CHECK_FALSE(cache.same_columns_as_previous_call());
+  p.rows = forward;
+  p.fill(cache, columns);
+  // A new factorisation: nothing is the same.
+  p.fill(cache, columns);
+  REQUIRE(cache.same_columns_as_previous_call());
+  cache.reset();
+  p.fill(cache, columns);
+  CHECK_FALSE(cache.same_columns_as_previous_call());
+  // Energy rows derived from node columns are derived anew at every call: never the same,
+  // and a call after one that derived them is not the same either, even when it keeps
+  // every column (its kept entry may be older than the derived column W used).
+  RowColumnCache energy;
+  Fixture q;
+  for (int i = 0; i < 3; ++i) q.rows.kind[i] = RowKind::Energy;
+  q.fill(energy, columns, kBudget);
+  q.fill(energy, columns, kBudget);
+  CHECK_FALSE(energy.same_columns_as_previous_call());
+  // A duplicated key: the two rows cannot both hold their entry's column.
+  RowColumnCache duplicates;
+  Fixture d;
+  d.rows.key[5] = d.rows.key[6];
+  d.fill(duplicates, columns);
+  d.fill(duplicates, columns);
+  d.fill(duplicates, columns);
+  CHECK_FALSE(duplicates.same_columns_as_previous_call());
+}
