@@ -44,7 +44,7 @@ struct State {
   std::vector<Mat3> R;               // per element rotation (assemble)
   VecX force;                        // 3 * nodes: elastic + gravity + external at x0 (assemble)
   VecX external_force;               // 3 * nodes: applied loads, N (set by callers; kept)
-  SparseMatrix system;               // free-DOF system matrix A of eq. 19 (assemble)
+  SparseMatrix system;               // free-DOF system matrix A of eq. 19 (assemble; see system_assembled)
   VecX rhs;                          // 3 * free: b of eq. 19 (assemble)
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
   VecX v_start;                      // 3 * free: velocities at the start of the step (solve, Newton)
@@ -74,7 +74,9 @@ struct State {
   bool factor_curved = false;        // the last factorisation included curvature
   bool factor_exact = false;         // the solver holds exactly this step's A (solve)
   int factor_age = 0;                // steps since the last factorisation (solve)
-  std::vector<double> element_scratch;  // per element, scratch of assemble and constraints
+  std::vector<double> stiffness_scale;  // per element: its R Ke R^T's weight in A (0: none) (assemble)
+  bool system_assembled = false;     // whether `system` holds this step's A (assemble_system_matrix);
+                                     // else A is applied element by element (multiply_step_system)
   std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
   BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)
   StepProfile profile;               // of the last step

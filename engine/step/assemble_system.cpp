@@ -1,10 +1,28 @@
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
+
 #include "engine/assembly/element_kernels.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
+#include "engine/solve/system_product.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
+
+namespace {
+
+// Elements per batch of the matrix pass: their matrices (4.6 kB each) stay within 5 MB.
+constexpr int kAssemblyBatch = 1024;
+
+// Whether assemble_system must leave the matrix: solve_newton starts from it, and PCG
+// multiplies by it at every iteration.
+bool matrix_needed(const Model& model) { return model.has_hyperelastic || model.solver.linear == "pcg"; }
+
+double mass_coefficient(const Model& model, int node) {
+  return (1 + model.h * model.bodies[model.node_body[node]].damping_mass) * model.node_mass[node];
+}
+
+}  // namespace
 
 // Backward Euler with Rayleigh damping D = alpha M + beta K (paper 000, eq. 19):
 //   A = M - h dF/dv - h^2 dF/dx = (1 + h alpha) M + (h beta + h^2) K
@@ -22,50 +40,109 @@ void assemble_system(const Model& model, State& state) {
     for (int n : load.nodes) state.force.segment<3>(3 * n) += ramp * load.node_force;
   }
 
-  // Rotations and elastic forces; a colour's elements share no node, so the force
-  // scatter needs no lock and sums in a fixed order.
-  std::vector<double>& k_scale = state.element_scratch;
-  k_scale.resize(model.num_elements);
-  for (const std::vector<int>& color : model.element_colors) {
+  // Rotations and elastic forces of all elements in one parallel loop, then summed into the
+  // force by this thread in element order (the same sums for any thread count). Colour by
+  // colour with the sums in the tasks, as before, cost 8 fork-joins.
+  std::vector<double>& scale = state.stiffness_scale;
+  scale.resize(model.num_elements);
+  // Kept storage (a warm step allocates nothing), bound to a local reference for the tasks.
+  thread_local std::vector<Vec24> forces_storage;
+  std::vector<Vec24>& forces = forces_storage;
+  forces.resize(model.num_elements);
+  for (const std::vector<int>& color : model.element_colors)  // a sleeping body's elements are in none
     state.profile.work.elements += static_cast<long>(color.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 16), [&](const auto& range) {
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        const int e = color[i];
-        const Body& body = model.bodies[model.element_body[e]];
-        // Hyperelastic elements enter through solve_newton. Their R serves only an energy
-        // limit's curvature (R Ke R^T, solve_velocity); without a limit the polar
-        // decomposition (an SVD per element) is skipped.
-        if (body.hyperelastic && model.element_Umax[e] == 0) {
-          k_scale[e] = 0;
-          continue;
-        }
-        const ElementNodes nodes = gather_element_nodes(model, state.x, e);
-        const CorotatedElement c = compute_corotated_element(model, e, nodes);
-        state.R[e] = c.R;
-        if (body.hyperelastic) {
-          k_scale[e] = 0;
-          continue;
-        }
-        const Vec24 f = element_elastic_force(model, e, c.R, c.u);
-        for (int a = 0; a < nodes.count; ++a)
-          state.force.segment<3>(3 * model.element_nodes[e][a]) += f.segment<3>(3 * a);
-        k_scale[e] = h * body.damping_stiffness + h * h;
-      }
-    });
+  tbb::parallel_for(tbb::blocked_range<int>(0, model.num_elements, 8), [&](const tbb::blocked_range<int>& range) {
+    for (int e = range.begin(); e != range.end(); ++e) {
+      const Body& body = model.bodies[model.element_body[e]];
+      scale[e] = 0;
+      if (model.asleep(model.element_body[e])) continue;  // its nodes are not unknowns: left as they are
+      // Hyperelastic elements enter through solve_newton. Their R serves only an energy
+      // limit's curvature (R Ke R^T, solve_velocity); without a limit the polar
+      // decomposition (an SVD per element) is skipped.
+      if (body.hyperelastic && model.element_Umax[e] == 0) continue;
+      const ElementNodes nodes = gather_element_nodes(model, state.x, e);
+      const CorotatedElement c = compute_corotated_element(model, e, nodes);
+      state.R[e] = c.R;
+      if (body.hyperelastic) continue;
+      forces[e] = element_elastic_force(model, e, c.R, c.u);
+      scale[e] = h * body.damping_stiffness + h * h;
+    }
+  });
+  for (int e = 0; e < model.num_elements; ++e) {
+    if (scale[e] == 0) continue;
+    for (int a = 0; a < element_node_count(model, e); ++a)
+      state.force.segment<3>(3 * model.element_nodes[e][a]) += forces[e].segment<3>(3 * a);
   }
-
-  double* values = state.system.valuePtr();
-  std::fill_n(values, state.system.nonZeros(), 0.0);
-  scatter_warped_stiffness(model, state.R, k_scale, values);
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];
     if (fi < 0) continue;
-    const Body& body = model.bodies[model.node_body[n]];
     const double m = model.node_mass[n];
-    for (int d = 0; d < 3; ++d) {
-      values[model.pattern.diagonal[3 * fi + d]] += (1 + h * body.damping_mass) * m;
-      state.rhs[3 * fi + d] = m * state.v[3 * n + d] + h * state.force[3 * n + d];
+    for (int d = 0; d < 3; ++d) state.rhs[3 * fi + d] = m * state.v[3 * n + d] + h * state.force[3 * n + d];
+  }
+  state.system_assembled = false;
+  if (matrix_needed(model)) assemble_system_matrix(model, state);
+}
+
+// The matrices of a batch of elements in one parallel loop, then scattered by this thread
+// in element order (the same sums for any thread count; scattering colour by colour in the
+// tasks took the creature as long on 2 threads as on 1).
+void assemble_system_matrix(const Model& model, State& state) {
+  if (state.system_assembled) return;
+  const std::vector<double>& scale = state.stiffness_scale;
+  thread_local std::vector<Mat24> matrices_storage;  // kept storage, as in assemble_system
+  std::vector<Mat24>& matrices = matrices_storage;
+  const int batch = std::max(1, std::min(model.num_elements, kAssemblyBatch));
+  matrices.resize(batch);
+  double* values = state.system.valuePtr();
+  std::fill_n(values, state.system.nonZeros(), 0.0);
+  for (int first = 0; first < model.num_elements; first += batch) {
+    const int count = std::min(batch, model.num_elements - first);
+    tbb::parallel_for(tbb::blocked_range<int>(0, count, 8), [&](const tbb::blocked_range<int>& range) {
+      for (int i = range.begin(); i != range.end(); ++i)
+        if (const int e = first + i; scale[e] != 0) element_warped_stiffness(model, e, state.R[e], matrices[i]);
+    });
+    for (int i = 0; i < count; ++i)
+      if (const int e = first + i; scale[e] != 0) scatter_element_matrix(model, e, matrices[i], scale[e], values);
+  }
+  for (int n = 0; n < model.num_nodes; ++n) {
+    const int fi = model.free_index[n];
+    if (fi < 0) continue;
+    for (int d = 0; d < 3; ++d) values[model.pattern.diagonal[3 * fi + d]] += mass_coefficient(model, n);
+  }
+  state.system_assembled = true;
+}
+
+// Per element s_e R (Ke (R^T x_e)): 8 rotations each way and one product with Ke, a fifth of
+// forming R Ke R^T; summed by this thread in element order.
+void multiply_step_system(const Model& model, const State& state, const Eigen::Ref<const VecX>& x, VecX& out) {
+  if (state.system_assembled) {
+    multiply_system(state.system, x, out);
+    return;
+  }
+  const std::vector<double>& scale = state.stiffness_scale;
+  thread_local std::vector<Vec24> products_storage;  // kept storage, as in assemble_system
+  std::vector<Vec24>& products = products_storage;
+  products.resize(model.num_elements);
+  tbb::parallel_for(tbb::blocked_range<int>(0, model.num_elements, 16), [&](const tbb::blocked_range<int>& range) {
+    for (int e = range.begin(); e != range.end(); ++e) {
+      if (scale[e] == 0) continue;
+      const Mat3& R = state.R[e];
+      const int count = element_node_count(model, e);
+      Vec24 local = Vec24::Zero();
+      for (int a = 0; a < count; ++a)
+        if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0)
+          local.segment<3>(3 * a).noalias() = R.transpose() * x.segment<3>(3 * f);
+      const Vec24 stiff = element_stiffness_times(model, e, local);
+      for (int a = 0; a < count; ++a) products[e].segment<3>(3 * a).noalias() = scale[e] * (R * stiff.segment<3>(3 * a));
     }
+  });
+  out.resize(x.size());
+  for (int n = 0; n < model.num_nodes; ++n)
+    if (const int fi = model.free_index[n]; fi >= 0) out.segment<3>(3 * fi) = mass_coefficient(model, n) * x.segment<3>(3 * fi);
+  for (int e = 0; e < model.num_elements; ++e) {
+    if (scale[e] == 0) continue;
+    for (int a = 0; a < element_node_count(model, e); ++a)
+      if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) out.segment<3>(3 * f) += products[e].segment<3>(3 * a);
   }
 }
 

@@ -12,7 +12,6 @@
 #include "engine/constraints/lcp_pgs.hpp"
 #include "engine/constraints/strain_limit_rows.hpp"
 #include "engine/step/sqp_merit.hpp"
-#include "engine/solve/system_product.hpp"
 #include "engine/step/stages.hpp"
 
 namespace sinew {
@@ -437,9 +436,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // H is not A, as v_base = v* is then not H's Newton step): the step is taken whole.
     merit.raise_weights(s.rows);
     sc.sqp_direction = v_next - v_free;
-    multiply_system(s.system, sc.sqp_direction, sc.sqp_product);
+    multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
     if (k == 0) {  // k > 0: sc.residual = b - A v_k already (updated above)
-      multiply_system(s.system, v_free, sc.residual);
+      multiply_step_system(model, s, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
     }
     // With an exact factorisation and rows without curvature the QP's step is already the

@@ -1,6 +1,5 @@
 #include <algorithm>
 
-#include "engine/solve/system_product.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/step/stages.hpp"
 
@@ -12,6 +11,7 @@ namespace sinew {
 // serves every SQP iteration of the step (solve_constraints), so a step that keeps its
 // contacts and limits costs one factorisation, not one per iteration.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus) {
+  assemble_system_matrix(model, state);
   settle_curvature(model, state);
   state.factor_age = 0;
   // Kept G: columns of an earlier H, corrected for in solve_constraints. Only with CHOLMOD,
@@ -72,7 +72,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   }
   VecX& residual = state.scratch.residual;
   VecX& delta = state.scratch.step;
-  multiply_system(state.system, v0, residual);
+  multiply_step_system(model, state, v0, residual);
   residual = state.rhs - residual;
   delta.setZero(v0.size());
   const int iterations = solver.solve(residual, delta);

@@ -6,9 +6,19 @@
 
 namespace sinew {
 
-// 1. Element rotations, warped stiffness and forces at x0; the system A and right-hand
-//    side b of backward Euler (paper 000, eq. 19) over free DOFs.
+// 1. Element rotations, warped stiffness weights and forces at x0; the right-hand side b of
+//    backward Euler (paper 000, eq. 19) over free DOFs, and its system A into state.system
+//    only where the step certainly needs the matrix (hyperelastic bodies, PCG): with
+//    CHOLMOD, a step that reuses an earlier factorisation only multiplies by A, which
+//    multiply_step_system does element by element.
 void assemble_system(const Model& model, State& state);
+// A into state.system, unless this step's is there already (state.system_assembled): before
+// a factorisation, or for a caller that reads the matrix.
+void assemble_system_matrix(const Model& model, State& state);
+// out = A x over the free DOFs: the assembled matrix when there is one, else the mass
+// diagonal plus sum_e s_e R_e Ke_e R_e^T x_e (s_e = state.stiffness_scale), the same terms
+// summed in another order; the same for any thread count.
+void multiply_step_system(const Model& model, const State& state, const Eigen::Ref<const VecX>& x, VecX& out);
 
 // 2-3. Factorise H = A + the constraints' curvature (state.curvature; H = A without
 //      constraints) and take the Newton step v = v0 + H^-1 (b - A v0), which is v* = A^-1 b

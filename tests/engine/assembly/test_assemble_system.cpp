@@ -1,5 +1,6 @@
-// assemble_system and scatter_warped_stiffness write A and b colour by colour through the
-// scatter map of the system pattern; here they are checked against the plain
+// assemble_system (b, and A where the step needs the matrix), assemble_system_matrix and
+// scatter_warped_stiffness write A and b through the scatter map of the system pattern, and
+// multiply_step_system applies A without it; here they are checked against the plain
 // element-by-element sums of eq. 19 assembled densely, and for bitwise equality on 1 and 2
 // threads.
 #include <doctest/doctest.h>
@@ -159,28 +160,61 @@ TEST_CASE("assemble_system: a hyperelastic element's rotation is computed only u
   CHECK(free == m.bodies[1].num_elements());
 }
 
-// Colours are split into ranges of 16 elements: bodies with well over 16 elements per colour
-// (432 hexes in 8 colours, 768 tets), so that 2 threads do take part.
-TEST_CASE("assemble_system: A and b are bitwise the same on 1 and 2 threads") {
-  const char* scene = R"({"bodies": [
+// Bodies of 432 hexes and 768 tets, so that 2 threads do take part in the element loops;
+// corotational only, so that assemble_system leaves the matrix out (CHOLMOD).
+const char* const kTwoLargeBodies = R"({"bodies": [
     {"name": "hex", "shape": [{"type": "box", "half_extents": [0.3, 0.15, 0.15]}], "cell_size": 0.05,
-     "material": {"E": 1e5, "nu": 0.3, "rho": 1000}, "damping": {"stiffness": 0.02},
+     "material": {"E": 1e5, "nu": 0.3, "rho": 1000}, "damping": {"mass": 0.5, "stiffness": 0.02},
      "fixed": [{"half_space": {"point": [-0.29, 0, 0], "normal": [1, 0, 0]}}]},
     {"name": "tet", "shape": [{"type": "box", "half_extents": [0.2, 0.1, 0.1], "center": [0, 1, 0]}],
      "elements": "tet", "cell_size": 0.05, "material": {"E": 2e5, "nu": 0.4, "rho": 500}}]})";
+
+TEST_CASE("assemble_system: A and b are bitwise the same on 1 and 2 threads") {
   const auto assemble = [&](int threads) {
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    World world(build_model(parse_scene_text(scene, "big", "."), [](const std::string&) {}));
+    World world(build_model(parse_scene_text(kTwoLargeBodies, "big", "."), [](const std::string&) {}));
     size_t widest = 0;
     for (const auto& colour : world.model().element_colors) widest = std::max(widest, colour.size());
     REQUIRE(widest >= 54);
     State& s = world.mutable_state();
     perturb(s, 3);
     assemble_system(world.model(), s);
+    assemble_system_matrix(world.model(), s);
     return std::make_pair(VecX(Eigen::Map<const VecX>(s.system.valuePtr(), s.system.nonZeros())), s.rhs);
   };
   const auto [A1, b1] = assemble(1);
   const auto [A2, b2] = assemble(2);
   CHECK(A1 == A2);
   CHECK(b1 == b2);
+}
+
+TEST_CASE("multiply_step_system: without the matrix, A x element by element equals the assembled A x") {
+  // assemble_system leaves the matrix out, and the product goes element by element; the
+  // same A assembled gives the same product up to the order of its sums.
+  const auto products = [&](int threads) {
+    const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    World world(build_model(parse_scene_text(kTwoLargeBodies, "big", "."), [](const std::string&) {}));
+    const Model& m = world.model();
+    State& s = world.mutable_state();
+    perturb(s, 9);
+    assemble_system(m, s);
+    REQUIRE_FALSE(s.system_assembled);
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<double> u(-1, 1);
+    VecX x(3 * m.num_free);
+    for (int i = 0; i < x.size(); ++i) x[i] = u(rng);
+    VecX free_product, assembled_product;
+    multiply_step_system(m, s, x, free_product);
+    assemble_system_matrix(m, s);
+    REQUIRE(s.system_assembled);
+    multiply_step_system(m, s, x, assembled_product);
+    // Both sum the same terms in other orders: each output is at most 81 entries of A (27
+    // nodes of a hex lattice) times x, each entry a sum of up to 8 rotated element blocks
+    // (products of three 3x3 factors) plus the mass, so a few hundred roundings of at most
+    // 81 |A|_max |x|_max: 1e-13 of that is 450 ulps.
+    const double scale = MatX(s.system).cwiseAbs().maxCoeff() * x.cwiseAbs().maxCoeff() * 81;
+    CHECK((free_product - assembled_product).cwiseAbs().maxCoeff() <= 1e-13 * scale);
+    return free_product;
+  };
+  CHECK(products(1) == products(2));
 }
