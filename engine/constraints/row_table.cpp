@@ -39,6 +39,27 @@ void RowTable::add_entry(int node, const Vec3& d) {
   begin.back() = static_cast<int>(nodes.size());
 }
 
+void RowTable::append(const RowTable& other) {
+  const int row_base = size(), entry_base = static_cast<int>(nodes.size());
+  const int block_base = static_cast<int>(curvature_blocks.size());
+  appended += other.size();
+  kind.insert(kind.end(), other.kind.begin(), other.kind.end());
+  value.insert(value.end(), other.value.begin(), other.value.end());
+  lo.insert(lo.end(), other.lo.begin(), other.lo.end());
+  hi.insert(hi.end(), other.hi.begin(), other.hi.end());
+  for (const int r : other.normal_row) normal_row.push_back(r >= 0 ? r + row_base : -1);
+  mu.insert(mu.end(), other.mu.begin(), other.mu.end());
+  key.insert(key.end(), other.key.begin(), other.key.end());
+  element.insert(element.end(), other.element.begin(), other.element.end());
+  curvature.insert(curvature.end(), other.curvature.begin(), other.curvature.end());
+  for (const int b : other.curvature_block) curvature_block.push_back(b >= 0 ? b + block_base : -1);
+  curvature_blocks.insert(curvature_blocks.end(), other.curvature_blocks.begin(), other.curvature_blocks.end());
+  for (int i = 1; i < static_cast<int>(other.begin.size()); ++i) begin.push_back(other.begin[i] + entry_base);
+  nodes.insert(nodes.end(), other.nodes.begin(), other.nodes.end());
+  jac.insert(jac.end(), other.jac.begin(), other.jac.end());
+  lambda.insert(lambda.end(), other.lambda.begin(), other.lambda.end());
+}
+
 int RowTable::count(RowKind k) const { return static_cast<int>(std::count(kind.begin(), kind.end(), k)); }
 
 }  // namespace sinew

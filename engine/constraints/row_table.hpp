@@ -45,6 +45,9 @@ struct RowTable {
   // Appends a row with an empty stencil; fill it with add_entry(). Returns its index.
   int add_row(RowKind k, double c, double lower, double upper, uint64_t identity);
   void add_entry(int node, const Vec3& d);  // to the last row
+  // Appends every row of `other` after this table's own, as if added here (friction rows'
+  // normal_row, stencils and curvature blocks re-indexed); `appended` counts them.
+  void append(const RowTable& other);
   int count(RowKind k) const;
 };
 

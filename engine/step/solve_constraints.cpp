@@ -3,6 +3,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/constraints/attachment_rows.hpp"
@@ -29,17 +30,32 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
                   const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
                   BodySurfaces& surfaces, EnergyScreen& screen, StepProfile& profile) {
   rows.clear();
-  const double energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows, &screen);
+  // Limits and contacts share no data: built side by side (the creature: 40 and 55 us a
+  // build on 2 threads, 4-5 builds a step), contacts into their own table, appended after
+  // the limits' so that the rows come in the same order as one after the other.
+  thread_local RowTable contacts_storage;  // kept storage, bound to a local reference for the task
+  RowTable& contacts = contacts_storage;
+  contacts.clear();
+  const bool contact = !model.obstacles.empty() || model.bodies.size() > 1;
+  double energy = -1, strain = -1, penetration = 0;
+  tbb::parallel_invoke(
+      [&] {
+        energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows, &screen);
+        if (model.has_strain_limits) strain = add_strain_limit_rows(model, x, model.solver.strain_activation_margin, keep, rows);
+      },
+      [&] {
+        if (contact)
+          penetration = std::max(add_contact_rows(model, t_end, x, v, keep, contacts).deepest,
+                                 add_body_contact_rows(model, x, v, keep, surfaces, contacts).deepest);
+      });
+  rows.append(contacts);
   profile.violation["energy"] = std::max(0.0, energy);
   double worst = energy / model.solver.sqp_tolerance;
   if (model.has_strain_limits) {
-    const double strain = add_strain_limit_rows(model, x, model.solver.strain_activation_margin, keep, rows);
     profile.violation["strain"] = std::max(0.0, strain);
     worst = std::max(worst, strain / model.solver.strain_tolerance);
   }
-  if (!model.obstacles.empty() || model.bodies.size() > 1) {
-    const double penetration = std::max(add_contact_rows(model, t_end, x, v, keep, rows).deepest,
-                                        add_body_contact_rows(model, x, v, keep, surfaces, rows).deepest);
+  if (contact) {
     profile.violation["penetration"] = penetration;
     worst = std::max(worst, penetration / model.solver.contact_tolerance);
     if (k == 0 && penetration > 0) worst = std::max(worst, 2.0);
