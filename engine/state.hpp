@@ -46,6 +46,8 @@ struct State {
   VecX external_force;               // 3 * nodes: applied loads, N (set by callers; kept)
   SparseMatrix system;               // free-DOF system matrix A of eq. 19 (assemble; see system_assembled)
   VecX rhs;                          // 3 * free: b of eq. 19 (assemble)
+  VecX start_residual;               // 3 * free: b - A v0, v0 the start-of-step velocities (assemble;
+                                     // corotational scenes only)
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
   VecX v_start;                      // 3 * free: velocities at the start of the step (solve, Newton)
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)

@@ -50,6 +50,13 @@ Vec24 element_stiffness_times(const Model& model, int e, const Vec24& u) {
   return out;
 }
 
+Eigen::Matrix<double, 24, 2> element_stiffness_times(const Model& model, int e, const Eigen::Matrix<double, 24, 2>& u) {
+  if (model.element_type[e] == ElementType::Hex8) return hex_ref(model, e).Ke * u;
+  Eigen::Matrix<double, 24, 2> out = Eigen::Matrix<double, 24, 2>::Zero();
+  out.topRows<12>() = tet_ref(model, e).Ke * u.topRows<12>();
+  return out;
+}
+
 double element_limit_energy(const Model& model, int e, const Vec24& u) {
   return u.dot(element_stiffness_times(model, e, u));
 }

@@ -25,6 +25,8 @@ struct CorotatedElement {
 CorotatedElement compute_corotated_element(const Model& model, int e, const ElementNodes& nodes);
 
 Vec24 element_stiffness_times(const Model& model, int e, const Vec24& u);    // Ke u
+Eigen::Matrix<double, 24, 2> element_stiffness_times(const Model& model, int e,
+                                                    const Eigen::Matrix<double, 24, 2>& u);  // Ke [u1 u2]
 double element_limit_energy(const Model& model, int e, const Vec24& u);      // Ue = u^T Ke u
 Vec24 element_elastic_force(const Model& model, int e, const Mat3& R, const Vec24& u);  // -R Ke u
 void element_warped_stiffness(const Model& model, int e, const Mat3& R, Mat24& out);    // R Ke R^T

@@ -1,6 +1,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 
 #include "engine/assembly/element_kernels.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
@@ -42,13 +43,18 @@ void assemble_system(const Model& model, State& state) {
 
   // Rotations and elastic forces of all elements in one parallel loop, then summed into the
   // force by this thread in element order (the same sums for any thread count). Colour by
-  // colour with the sums in the tasks, as before, cost 8 fork-joins.
+  // colour with the sums in the tasks, as before, cost 8 fork-joins. The same loop applies
+  // each element's stiffness to the start-of-step velocities, K (R^T v0) beside K u, for
+  // stage 3's residual b - A v0 (one product with A fewer per step).
   std::vector<double>& scale = state.stiffness_scale;
   scale.resize(model.num_elements);
-  // Kept storage (a warm step allocates nothing), bound to a local reference for the tasks.
-  thread_local std::vector<Vec24> forces_storage;
+  // Kept storage (a warm step allocates nothing), bound to local references for the tasks.
+  thread_local std::vector<Vec24> forces_storage, products_storage;
   std::vector<Vec24>& forces = forces_storage;
+  std::vector<Vec24>& products = products_storage;  // s_e R Ke R^T v0_e
   forces.resize(model.num_elements);
+  const bool residual = !model.has_hyperelastic;  // stage 3' (solve_newton) has its own
+  if (residual) products.resize(model.num_elements);
   for (const std::vector<int>& color : model.element_colors)  // a sleeping body's elements are in none
     state.profile.work.elements += static_cast<long>(color.size());
   tbb::parallel_for(tbb::blocked_range<int>(0, model.num_elements, 8), [&](const tbb::blocked_range<int>& range) {
@@ -64,8 +70,22 @@ void assemble_system(const Model& model, State& state) {
       const CorotatedElement c = compute_corotated_element(model, e, nodes);
       state.R[e] = c.R;
       if (body.hyperelastic) continue;
-      forces[e] = element_elastic_force(model, e, c.R, c.u);
       scale[e] = h * body.damping_stiffness + h * h;
+      if (!residual) {
+        forces[e] = element_elastic_force(model, e, c.R, c.u);
+        continue;
+      }
+      // Ke [u, R^T v0_e] in one product (v0 on free nodes; a fixed node's is not an unknown).
+      Eigen::Matrix<double, 24, 2> local = Eigen::Matrix<double, 24, 2>::Zero();
+      local.col(0) = c.u;
+      for (int a = 0; a < nodes.count; ++a)
+        if (model.free_index[model.element_nodes[e][a]] >= 0)
+          local.block<3, 1>(3 * a, 1).noalias() = c.R.transpose() * state.v.segment<3>(3 * model.element_nodes[e][a]);
+      const Eigen::Matrix<double, 24, 2> stiff = element_stiffness_times(model, e, local);
+      for (int a = 0; a < nodes.count; ++a) {
+        forces[e].segment<3>(3 * a).noalias() = -(c.R * stiff.block<3, 1>(3 * a, 0));
+        products[e].segment<3>(3 * a).noalias() = scale[e] * (c.R * stiff.block<3, 1>(3 * a, 1));
+      }
     }
   });
   for (int e = 0; e < model.num_elements; ++e) {
@@ -78,6 +98,18 @@ void assemble_system(const Model& model, State& state) {
     if (fi < 0) continue;
     const double m = model.node_mass[n];
     for (int d = 0; d < 3; ++d) state.rhs[3 * fi + d] = m * state.v[3 * n + d] + h * state.force[3 * n + d];
+  }
+  if (residual) {  // b - A v0 = b - (mass diagonal) v0 - sum_e s_e R Ke R^T v0_e
+    VecX& r = state.start_residual;
+    r.resize(3 * model.num_free);
+    for (int n = 0; n < model.num_nodes; ++n)
+      if (const int fi = model.free_index[n]; fi >= 0)
+        r.segment<3>(3 * fi) = state.rhs.segment<3>(3 * fi) - mass_coefficient(model, n) * state.v.segment<3>(3 * n);
+    for (int e = 0; e < model.num_elements; ++e) {
+      if (scale[e] == 0) continue;
+      for (int a = 0; a < element_node_count(model, e); ++a)
+        if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) r.segment<3>(3 * f) -= products[e].segment<3>(3 * a);
+    }
   }
   state.system_assembled = false;
   if (matrix_needed(model)) assemble_system_matrix(model, state);
@@ -112,38 +144,68 @@ void assemble_system_matrix(const Model& model, State& state) {
   state.system_assembled = true;
 }
 
-// Per element s_e R (Ke (R^T x_e)): 8 rotations each way and one product with Ke, a fifth of
-// forming R Ke R^T; summed by this thread in element order.
-void multiply_step_system(const Model& model, const State& state, const Eigen::Ref<const VecX>& x, VecX& out) {
-  if (state.system_assembled) {
-    multiply_system(state.system, x, out);
-    return;
-  }
+namespace {
+
+// out_j = A x_j for the columns of X (1 or 2), element by element: per element
+// s_e R (Ke (R^T x_e)), 8 rotations each way and one product with Ke (both columns at once),
+// a fifth of forming R Ke R^T; summed by this thread in element order.
+template <int Columns>
+void multiply_elementwise(const Model& model, const State& state, const std::array<const VecX*, Columns>& x,
+                          const std::array<VecX*, Columns>& out) {
+  using Block = Eigen::Matrix<double, 24, Columns>;
   const std::vector<double>& scale = state.stiffness_scale;
-  thread_local std::vector<Vec24> products_storage;  // kept storage, as in assemble_system
-  std::vector<Vec24>& products = products_storage;
+  thread_local std::vector<Block> products_storage;  // kept storage, as in assemble_system
+  std::vector<Block>& products = products_storage;
   products.resize(model.num_elements);
   tbb::parallel_for(tbb::blocked_range<int>(0, model.num_elements, 16), [&](const tbb::blocked_range<int>& range) {
     for (int e = range.begin(); e != range.end(); ++e) {
       if (scale[e] == 0) continue;
       const Mat3& R = state.R[e];
       const int count = element_node_count(model, e);
-      Vec24 local = Vec24::Zero();
+      Block local = Block::Zero();
       for (int a = 0; a < count; ++a)
         if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0)
-          local.segment<3>(3 * a).noalias() = R.transpose() * x.segment<3>(3 * f);
-      const Vec24 stiff = element_stiffness_times(model, e, local);
-      for (int a = 0; a < count; ++a) products[e].segment<3>(3 * a).noalias() = scale[e] * (R * stiff.segment<3>(3 * a));
+          for (int j = 0; j < Columns; ++j) local.template block<3, 1>(3 * a, j).noalias() = R.transpose() * x[j]->template segment<3>(3 * f);
+      Block stiff;
+      if constexpr (Columns == 1) stiff = element_stiffness_times(model, e, Vec24(local));
+      else stiff = element_stiffness_times(model, e, local);
+      for (int a = 0; a < count; ++a)
+        products[e].template middleRows<3>(3 * a).noalias() = scale[e] * (R * stiff.template middleRows<3>(3 * a));
     }
   });
-  out.resize(x.size());
-  for (int n = 0; n < model.num_nodes; ++n)
-    if (const int fi = model.free_index[n]; fi >= 0) out.segment<3>(3 * fi) = mass_coefficient(model, n) * x.segment<3>(3 * fi);
-  for (int e = 0; e < model.num_elements; ++e) {
-    if (scale[e] == 0) continue;
-    for (int a = 0; a < element_node_count(model, e); ++a)
-      if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) out.segment<3>(3 * f) += products[e].segment<3>(3 * a);
+  for (int j = 0; j < Columns; ++j) {
+    VecX& o = *out[j];
+    const VecX& in = *x[j];
+    o.resize(in.size());
+    for (int n = 0; n < model.num_nodes; ++n)
+      if (const int fi = model.free_index[n]; fi >= 0) o.segment<3>(3 * fi) = mass_coefficient(model, n) * in.segment<3>(3 * fi);
+    for (int e = 0; e < model.num_elements; ++e) {
+      if (scale[e] == 0) continue;
+      for (int a = 0; a < element_node_count(model, e); ++a)
+        if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0)
+          o.segment<3>(3 * f) += products[e].template block<3, 1>(3 * a, j);
+    }
   }
+}
+
+}  // namespace
+
+void multiply_step_system(const Model& model, const State& state, const VecX& x, VecX& out) {
+  if (state.system_assembled) {
+    multiply_system(state.system, x, out);
+    return;
+  }
+  multiply_elementwise<1>(model, state, {&x}, {&out});
+}
+
+void multiply_step_system(const Model& model, const State& state, const VecX& x1, VecX& out1, const VecX& x2,
+                          VecX& out2) {
+  if (state.system_assembled) {
+    multiply_system(state.system, x1, out1);
+    multiply_system(state.system, x2, out2);
+    return;
+  }
+  multiply_elementwise<2>(model, state, {&x1, &x2}, {&out1, &out2});
 }
 
 }  // namespace sinew

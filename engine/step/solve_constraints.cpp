@@ -452,10 +452,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // H is not A, as v_base = v* is then not H's Newton step): the step is taken whole.
     merit.raise_weights(s.rows);
     sc.sqp_direction = v_next - v_free;
-    multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
     if (k == 0) {  // k > 0: sc.residual = b - A v_k already (updated above)
-      multiply_step_system(model, s, v_free, sc.residual);
+      multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
+    } else {
+      multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
     }
     // With an exact factorisation and rows without curvature the QP's step is already the
     // Lagrangian's minimiser (step length 1, nothing to conjugate against).

@@ -70,10 +70,8 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     const int fi = model.free_index[n];
     if (fi >= 0) v0.segment<3>(3 * fi) = state.v.segment<3>(3 * n);
   }
-  VecX& residual = state.scratch.residual;
+  const VecX& residual = state.start_residual;  // b - A v0, from assemble_system's element pass
   VecX& delta = state.scratch.step;
-  multiply_step_system(model, state, v0, residual);
-  residual = state.rhs - residual;
   delta.setZero(v0.size());
   const int iterations = solver.solve(residual, delta);
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += iterations;

@@ -18,7 +18,10 @@ void assemble_system_matrix(const Model& model, State& state);
 // out = A x over the free DOFs: the assembled matrix when there is one, else the mass
 // diagonal plus sum_e s_e R_e Ke_e R_e^T x_e (s_e = state.stiffness_scale), the same terms
 // summed in another order; the same for any thread count.
-void multiply_step_system(const Model& model, const State& state, const Eigen::Ref<const VecX>& x, VecX& out);
+void multiply_step_system(const Model& model, const State& state, const VecX& x, VecX& out);
+// out1 = A x1 and out2 = A x2 in one pass over the elements (each as the one above computes it).
+void multiply_step_system(const Model& model, const State& state, const VecX& x1, VecX& out1, const VecX& x2,
+                          VecX& out2);
 
 // 2-3. Factorise H = A + the constraints' curvature (state.curvature; H = A without
 //      constraints) and take the Newton step v = v0 + H^-1 (b - A v0), which is v* = A^-1 b

@@ -139,7 +139,7 @@ std::vector<Family> make_families() {
                      sqp_tolerance_sweep("contact_tolerance", &SolverDesc::contact_tolerance, 0.1, {1e-2, 1e-3, 1e-4, 1e-5}, {1e-2, 1e-4})};
   creature.sweeps.back().first_variant_only = true;
   // The scene factorises every 4 steps: what an older factorisation costs in accuracy.
-  creature.sweeps.push_back(cap_sweep("refactor_interval", &SolverDesc::refactor_interval, {1, 2, 4, 8}, {1, 4}));
+  creature.sweeps.push_back(cap_sweep("refactor_interval", &SolverDesc::refactor_interval, {1, 2, 4, 6, 8}, {1, 4, 6}));
   creature.steps = 45, creature.quick_steps = 30, creature.sample_every = 3;
   creature.violation_kind = "penetration";
   families.push_back(creature);

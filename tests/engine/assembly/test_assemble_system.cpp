@@ -188,7 +188,7 @@ TEST_CASE("assemble_system: A and b are bitwise the same on 1 and 2 threads") {
   CHECK(b1 == b2);
 }
 
-TEST_CASE("multiply_step_system: without the matrix, A x element by element equals the assembled A x") {
+TEST_CASE("multiply_step_system: without the matrix, A x element by element equals the assembled A x, and so does b - A v0") {
   // assemble_system leaves the matrix out, and the product goes element by element; the
   // same A assembled gives the same product up to the order of its sums.
   const auto products = [&](int threads) {
@@ -205,16 +205,35 @@ TEST_CASE("multiply_step_system: without the matrix, A x element by element equa
     for (int i = 0; i < x.size(); ++i) x[i] = u(rng);
     VecX free_product, assembled_product;
     multiply_step_system(m, s, x, free_product);
+    // Two columns in one pass: each the product above, up to the order of Ke's sums.
+    VecX y = x.reverse(), pair_x, pair_y, single_y;
+    multiply_step_system(m, s, x, pair_x, y, pair_y);
+    multiply_step_system(m, s, y, single_y);
+    // The start-of-step residual b - A v0 from assemble_system's element pass.
+    VecX v0(3 * m.num_free);
+    for (int n = 0; n < m.num_nodes; ++n)
+      if (const int f = m.free_index[n]; f >= 0) v0.segment<3>(3 * f) = s.v.segment<3>(3 * n);
+    const VecX start_residual = s.start_residual;
     assemble_system_matrix(m, s);
     REQUIRE(s.system_assembled);
     multiply_step_system(m, s, x, assembled_product);
+    VecX assembled_v0;
+    multiply_step_system(m, s, v0, assembled_v0);
     // Both sum the same terms in other orders: each output is at most 81 entries of A (27
     // nodes of a hex lattice) times x, each entry a sum of up to 8 rotated element blocks
     // (products of three 3x3 factors) plus the mass, so a few hundred roundings of at most
     // 81 |A|_max |x|_max: 1e-13 of that is 450 ulps.
     const double scale = MatX(s.system).cwiseAbs().maxCoeff() * x.cwiseAbs().maxCoeff() * 81;
     CHECK((free_product - assembled_product).cwiseAbs().maxCoeff() <= 1e-13 * scale);
-    return free_product;
+    CHECK((pair_x - free_product).cwiseAbs().maxCoeff() <= 1e-13 * scale);
+    CHECK((pair_y - single_y).cwiseAbs().maxCoeff() <= 1e-13 * scale);
+    // b - A v0 against the assembled A; its terms are at most |b|_max and 81 |A|_max |v0|_max.
+    const double residual_scale = s.rhs.cwiseAbs().maxCoeff() + MatX(s.system).cwiseAbs().maxCoeff() * v0.cwiseAbs().maxCoeff() * 81;
+    CHECK((start_residual - (s.rhs - assembled_v0)).cwiseAbs().maxCoeff() <= 1e-13 * residual_scale);
+    return std::make_pair(free_product, VecX(pair_y));
   };
-  CHECK(products(1) == products(2));
+  const auto [one_thread, one_thread_pair] = products(1);
+  const auto [two_threads, two_threads_pair] = products(2);
+  CHECK(one_thread == two_threads);
+  CHECK(one_thread_pair == two_threads_pair);
 }
