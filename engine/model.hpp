@@ -96,14 +96,13 @@ struct Model {
   std::vector<Mat3> element_strain_frame;      // per element: the strain limits' material axes
   std::vector<double> element_Umax;            // energy limit, 0 when the element has none
   // Elements split into colours that share no node, so that each colour can be
-  // scattered in parallel without locks and in a fixed order (deterministic sums): stage 1
-  // (assemble_system, scatter_warped_stiffness).
+  // scattered in parallel without locks and in a fixed order (deterministic sums):
+  // scatter_warped_stiffness (the constraints' curvature). A sleeping body's elements are in
+  // no colour (frozen_model.cpp). Stage 1 (assemble_system) sums per-element results on one
+  // thread in element order instead (ARCHITECTURE.md, "Determinism and threads").
   std::vector<std::vector<int>> element_colors;
   // The same guarantee by blocks of consecutive elements (element_schedule.hpp), read in
-  // memory order: solve_newton's hyperelastic assembly. Stage 1 keeps element_colors: its
-  // elements cost little (corotational, < 1 ms on the paper scenes) and reordering its sums
-  // changed round-off, on which the paper 001 scenes' unconverged SQP steps depended before
-  // the SQP's line search (ARCHITECTURE.md, "Determinism and threads").
+  // memory order: solve_newton's hyperelastic assembly.
   ElementSchedule element_schedule;
 
   SystemPattern pattern;                       // sparsity of the free-DOF system matrix
