@@ -188,8 +188,12 @@ ProjectedStrainLimits compute_projected_strain_limits(const StrainLimitSpec& spe
 void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat43& dN_dX,
                            double margin, uint32_t keep, StrainLimitRows& out,
                            double gap_tolerance) {
+  evaluate_strain_limit(spec, compute_rotation_variant_svd(F), dN_dX, margin, keep, out, gap_tolerance);
+}
+
+void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
+                           double margin, uint32_t keep, StrainLimitRows& out, double gap_tolerance) {
   out.count = 0;
-  const RotationVariantSvd svd = compute_rotation_variant_svd(F);
   Terms terms;
   collect_terms(spec, svd, terms);
   bool any = false;
@@ -219,8 +223,12 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat
 }
 
 double worst_strain_violation(const StrainLimitSpec& spec, const Mat3& F) {
+  return worst_strain_violation(spec, compute_rotation_variant_svd(F));
+}
+
+double worst_strain_violation(const StrainLimitSpec& spec, const RotationVariantSvd& svd) {
   Terms terms;
-  collect_terms(spec, compute_rotation_variant_svd(F), terms);
+  collect_terms(spec, svd, terms);
   double worst = -kInf;
   for (int t = 0; t < terms.count; ++t) worst = std::max(worst, -terms.term[t].C);
   return worst;

@@ -142,9 +142,14 @@ struct StrainLimitRows {
 void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat43& dN_dX,
                            double margin, uint32_t keep, StrainLimitRows& out,
                            double gap_tolerance = kStrainLimitGapTolerance);
+// The same from F's rotation-variant SVD, when the caller has it already.
+void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
+                           double margin, uint32_t keep, StrainLimitRows& out,
+                           double gap_tolerance = kStrainLimitGapTolerance);
 
 // Worst violation max_k(-C_k) of one tet (positive when violated; -inf when it has no
 // constraint). No gradients.
 double worst_strain_violation(const StrainLimitSpec& spec, const Mat3& F);
+double worst_strain_violation(const StrainLimitSpec& spec, const RotationVariantSvd& svd);
 
 }  // namespace sinew

@@ -38,18 +38,23 @@ Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
   return element_center_deformation_gradient(model, e, gather_element_nodes(model, x, e));
 }
 
-// Per element, the worst violation (-inf without strain limits), into kept storage (a warm
+// Per element, the worst violation (-inf without strain limits) and, when `svds` is given,
+// the SVD of its F (for the rows: one SVD per tet and build), into kept storage (a warm
 // step allocates nothing); valid until the next call on this thread.
-const std::vector<double>& worst_per_element(const Model& model, const VecX& x) {
+const std::vector<double>& worst_per_element(const Model& model, const VecX& x,
+                                             std::vector<RotationVariantSvd>* svds = nullptr) {
   // Bound to a local reference: the parallel tasks below must see this thread's vector,
   // not their own thread's (so for every thread_local of this file).
   thread_local std::vector<double> storage;
   std::vector<double>& worst = storage;
   worst.assign(model.num_elements, -1e300);
+  if (svds) svds->resize(model.num_elements);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (!is_limited(model, e)) return;
     const StrainLimitSpec spec = tet_spec(model, e);
-    worst[e] = worst_strain_violation(spec, tet_deformation_gradient(model, x, e));
+    const RotationVariantSvd svd = compute_rotation_variant_svd(tet_deformation_gradient(model, x, e));
+    worst[e] = worst_strain_violation(spec, svd);
+    if (svds) (*svds)[e] = svd;
   });
   return worst;
 }
@@ -66,7 +71,9 @@ double overall(const Model& model, const std::vector<double>& worst) {
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows) {
   if (!model.has_strain_limits) return -1;
-  const std::vector<double>& worst = worst_per_element(model, x);
+  thread_local std::vector<RotationVariantSvd> svds_storage;
+  std::vector<RotationVariantSvd>& svds = svds_storage;
+  const std::vector<double>& worst = worst_per_element(model, x, &svds);
   // Kept constraints per tet, as bit masks over the constraint index k. Kept storage below.
   thread_local std::vector<std::pair<int, uint32_t>> kept_storage;
   thread_local std::vector<int> candidates_storage;
@@ -97,8 +104,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     const uint32_t mask = (it != kept.end() && it->first == e) ? it->second : 0u;
     const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    const Mat3 F = tet_deformation_gradient(model, x, e);
-    evaluate_strain_limit(spec, F, dN_dX, margin, mask, found[i]);
+    evaluate_strain_limit(spec, svds[e], dN_dX, margin, mask, found[i]);
   });
   // Rows in element order: the table does not depend on the thread count.
   for (size_t i = 0; i < candidates.size(); ++i) {
