@@ -24,6 +24,9 @@ World::World(Model model, const std::vector<Vec3>& initial_velocity)
   s.system = m_model.pattern.matrix;
   s.rhs = VecX::Zero(3 * m_model.num_free);
   s.v_free = VecX::Zero(3 * m_model.num_free);
+  // No factorisation yet: the first step makes one whatever step_count a caller carries
+  // over (ui's LiveScene rebuilds keep it), never reusing one it does not have.
+  s.factor_age = m_model.solver.refactor_interval;
   s.surface.resize(m_model.bodies.size());
   update_surfaces(m_model, s);
   const size_t bodies = m_model.bodies.size();
@@ -40,6 +43,7 @@ void World::apply_sleeping_set() {
   else m_frozen = std::make_unique<Model>(freeze_sleeping_bodies(m_model, s.sleep.asleep));
   const Model& model = stage_model();
   s.system = model.pattern.matrix;
+  s.system_assembled = false;
   s.rhs = VecX::Zero(3 * model.num_free);
   s.v_free = VecX::Zero(3 * model.num_free);
   s.factor_age = m_model.solver.refactor_interval;  // no reuse of a factorisation of the old pattern

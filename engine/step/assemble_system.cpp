@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
 
 #include "engine/assembly/element_kernels.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
@@ -121,6 +122,8 @@ void assemble_system(const Model& model, State& state) {
 void assemble_system_matrix(const Model& model, State& state) {
   if (state.system_assembled) return;
   const std::vector<double>& scale = state.stiffness_scale;
+  if (static_cast<int>(scale.size()) != model.num_elements)
+    throw std::logic_error("assemble_system_matrix: assemble_system has not run on this model");
   thread_local std::vector<Mat24> matrices_storage;  // kept storage, as in assemble_system
   std::vector<Mat24>& matrices = matrices_storage;
   const int batch = std::max(1, std::min(model.num_elements, kAssemblyBatch));

@@ -120,3 +120,22 @@ TEST_CASE("world: a step that makes a node faster than solver.max_speed fails an
   CHECK(world.state().v.lpNorm<Eigen::Infinity>() <= 1.0);
   CHECK_FALSE(world.profile().finite);
 }
+
+TEST_CASE("world: a new world whose caller carries over the step count factorises before it reuses") {
+  // ui's LiveScene rebuilds a world mid-run and keeps its step count; with refactor_interval
+  // > 1 the first step must still factorise (there is no earlier factorisation to reuse).
+  // Both paths: corotational (solve_velocity) and Stable Neo-Hookean (solve_newton).
+  for (const char* material : {R"("E": 1e5, "nu": 0.3, "rho": 1000)",
+                               R"("model": "stable_neo_hookean", "E": 1e5, "nu": 0.3, "rho": 1000)"}) {
+    const std::string text = std::string(R"({"solver": {"refactor_interval": 4},
+      "bodies": [{"name": "box", "shape": [{"type": "box", "half_extents": [0.1, 0.1, 0.1]}], "cell_size": 0.1,
+        "material": {)") + material + R"(}}]})";
+    World world(build_model(parse_scene_text(text, "carried", "."), [](const std::string&) {}));
+    world.mutable_state().step_count = 37;
+    REQUIRE(world.step());
+    CHECK(world.profile().skipped[static_cast<int>(Stage::Factorize)].empty());  // it factorised
+    CHECK(world.state().x.allFinite());
+    REQUIRE(world.step());  // and the next step reuses that factorisation
+    CHECK_FALSE(world.profile().skipped[static_cast<int>(Stage::Factorize)].empty());
+  }
+}
