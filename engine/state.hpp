@@ -29,6 +29,7 @@ struct StepScratch {
   VecX sqp_previous_direction, sqp_previous_product;  // the last search direction p and A p (conjugate steps)
   ScratchMatrix per_row;  // m x 3: the LCP's c, J (v_base - v_k) and PGS's residual weights
   std::vector<uint64_t> keep;
+  RowTable contact_rows;  // build_rows: contacts, built beside the limits' rows and appended to them
   // solve_newton's
   SparseMatrix newton_A0, newton_H;
   VecX newton_x0, newton_b0, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,

@@ -43,18 +43,23 @@ CorotatedElement compute_corotated_element(const Model& model, int e, const Elem
   return out;
 }
 
-Vec24 element_stiffness_times(const Model& model, int e, const Vec24& u) {
+namespace {
+
+// Ke U for U of 24 rows (a tet's Ke acts on the first 12; the rest of the product is 0).
+template <int Columns>
+Eigen::Matrix<double, 24, Columns> stiffness_times(const Model& model, int e, const Eigen::Matrix<double, 24, Columns>& u) {
   if (model.element_type[e] == ElementType::Hex8) return hex_ref(model, e).Ke * u;
-  Vec24 out = Vec24::Zero();
-  out.head<12>() = tet_ref(model, e).Ke * u.head<12>();
+  Eigen::Matrix<double, 24, Columns> out = Eigen::Matrix<double, 24, Columns>::Zero();
+  out.template topRows<12>() = tet_ref(model, e).Ke * u.template topRows<12>();
   return out;
 }
 
+}  // namespace
+
+Vec24 element_stiffness_times(const Model& model, int e, const Vec24& u) { return stiffness_times<1>(model, e, u); }
+
 Eigen::Matrix<double, 24, 2> element_stiffness_times(const Model& model, int e, const Eigen::Matrix<double, 24, 2>& u) {
-  if (model.element_type[e] == ElementType::Hex8) return hex_ref(model, e).Ke * u;
-  Eigen::Matrix<double, 24, 2> out = Eigen::Matrix<double, 24, 2>::Zero();
-  out.topRows<12>() = tet_ref(model, e).Ke * u.topRows<12>();
-  return out;
+  return stiffness_times<2>(model, e, u);
 }
 
 double element_limit_energy(const Model& model, int e, const Vec24& u) {

@@ -24,6 +24,20 @@ double mass_coefficient(const Model& model, int node) {
   return (1 + model.h * model.bodies[model.node_body[node]].damping_mass) * model.node_mass[node];
 }
 
+// out += sign * column `column` of each element's 24-row block, on the free DOFs of its
+// nodes, in element order (one thread: the same sums for any thread count). Elements of
+// scale 0 carry no stiffness this step, and their blocks are not written.
+template <typename Block>
+void add_element_blocks(const Model& model, const std::vector<double>& scale, const std::vector<Block>& blocks,
+                        int column, double sign, VecX& out) {
+  for (int e = 0; e < model.num_elements; ++e) {
+    if (scale[e] == 0) continue;
+    for (int a = 0; a < element_node_count(model, e); ++a)
+      if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0)
+        out.segment<3>(3 * f) += sign * blocks[e].template block<3, 1>(3 * a, column);
+  }
+}
+
 }  // namespace
 
 // Backward Euler with Rayleigh damping D = alpha M + beta K (paper 000, eq. 19):
@@ -106,11 +120,7 @@ void assemble_system(const Model& model, State& state) {
     for (int n = 0; n < model.num_nodes; ++n)
       if (const int fi = model.free_index[n]; fi >= 0)
         r.segment<3>(3 * fi) = state.rhs.segment<3>(3 * fi) - mass_coefficient(model, n) * state.v.segment<3>(3 * n);
-    for (int e = 0; e < model.num_elements; ++e) {
-      if (scale[e] == 0) continue;
-      for (int a = 0; a < element_node_count(model, e); ++a)
-        if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) r.segment<3>(3 * f) -= products[e].segment<3>(3 * a);
-    }
+    add_element_blocks(model, scale, products, 0, -1.0, r);
   }
   state.system_assembled = false;
   if (matrix_needed(model)) assemble_system_matrix(model, state);
@@ -182,12 +192,7 @@ void multiply_elementwise(const Model& model, const State& state, const std::arr
     o.resize(in.size());
     for (int n = 0; n < model.num_nodes; ++n)
       if (const int fi = model.free_index[n]; fi >= 0) o.segment<3>(3 * fi) = mass_coefficient(model, n) * in.segment<3>(3 * fi);
-    for (int e = 0; e < model.num_elements; ++e) {
-      if (scale[e] == 0) continue;
-      for (int a = 0; a < element_node_count(model, e); ++a)
-        if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0)
-          o.segment<3>(3 * f) += products[e].template block<3, 1>(3 * a, j);
-    }
+    add_element_blocks(model, scale, products, j, 1.0, o);
   }
 }
 

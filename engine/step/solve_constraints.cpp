@@ -28,13 +28,11 @@ namespace {
 // freely on the steps in between (and sink, when g h^2 < contact_tolerance).
 double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
                   const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
-                  BodySurfaces& surfaces, EnergyScreen& screen, StepProfile& profile) {
+                  RowTable& contacts, BodySurfaces& surfaces, EnergyScreen& screen, StepProfile& profile) {
   rows.clear();
   // Limits and contacts share no data: built side by side (the creature: 40 and 55 us a
   // build on 2 threads, 4-5 builds a step), contacts into their own table, appended after
   // the limits' so that the rows come in the same order as one after the other.
-  thread_local RowTable contacts_storage;  // kept storage, bound to a local reference for the task
-  RowTable& contacts = contacts_storage;
   contacts.clear();
   const bool contact = !model.obstacles.empty() || model.bodies.size() > 1;
   double energy = -1, strain = -1, penetration = 0;
@@ -272,7 +270,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       return 0.0;
     }
     sc.x_iterate = x0 + h * s.v;
-    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, s.body_surfaces,
+    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, sc.contact_rows, s.body_surfaces,
                       s.energy_screen, profile);
   };
   for (int k = 0;; ++k) {
