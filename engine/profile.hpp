@@ -26,6 +26,7 @@ inline const char* stage_name(Stage s) {
 struct StepWork {
   long elements = 0;        // element evaluations: assembly, Newton derivatives, line-search energies
   long rows = 0;            // constraint rows built, over all SQP iterations
+  long row_builds = 0;      // row tables built: SQP iterates and line-search trials (not in total())
   long factorizations = 0;  // numeric factorisations (or PCG preconditioner setups)
   long solves = 0;          // right-hand sides solved; each column of a multi-column solve counts
   long total() const { return elements + rows + factorizations + solves; }

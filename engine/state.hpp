@@ -69,7 +69,7 @@ struct State {
                                      // strain rows: h sum lambda_i K_i (strain_limit_curvature.hpp)
   // The last SQP iteration's rows and their linearisation point, whose curvature (above)
   // is computed only when a factorisation needs it (settle_curvature, stages.hpp): strain
-  // rows' blocks cost 18 constraint evaluations per tet, and most SQP iterations end
+  // rows' blocks cost 10 constraint evaluations per tet, and most SQP iterations end
   // without a refactorisation.
   RowTable curvature_rows;
   VecX curvature_point;

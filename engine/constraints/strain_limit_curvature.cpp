@@ -70,19 +70,20 @@ void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F_given, con
   const Mat43 unused = Mat43::Zero();  // only dC/dF is read
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   for (int r = 0; r < rows.count; ++r) hessians[r].setZero();
+  StrainLimitRows base;  // margin -inf: exactly the wanted rows, whatever their values
+  evaluate_strain_limit(spec, F, unused, -kInfinity, wanted, base);
   for (int e = 0; e < 9; ++e) {
     Mat3 dF = Mat3::Zero();
     dF(e % 3, e / 3) = kCurvatureStep;
-    StrainLimitRows plus, minus;  // margin -inf: exactly the wanted rows, whatever their values
+    StrainLimitRows plus;
     evaluate_strain_limit(spec, F + dF, unused, -kInfinity, wanted, plus);
-    evaluate_strain_limit(spec, F - dF, unused, -kInfinity, wanted, minus);
     // A row may vanish at a perturbed F (a_ij crossing 1e-12): its column stays 0.
-    for (int r = 0, p = 0, m = 0; r < rows.count; ++r) {
+    for (int r = 0, p = 0, b = 0; r < rows.count; ++r) {
       const int k = rows.row[r].index;
       while (p < plus.count && plus.row[p].index < k) ++p;
-      while (m < minus.count && minus.row[m].index < k) ++m;
-      if (p == plus.count || m == minus.count || plus.row[p].index != k || minus.row[m].index != k) continue;
-      const Mat3 column = (plus.row[p].dF - minus.row[m].dF) / (2 * kCurvatureStep);
+      while (b < base.count && base.row[b].index < k) ++b;
+      if (p == plus.count || b == base.count || plus.row[p].index != k || base.row[b].index != k) continue;
+      const Mat3 column = (plus.row[p].dF - base.row[b].dF) / kCurvatureStep;
       hessians[r].col(e) = Eigen::Map<const Eigen::Matrix<double, 9, 1>>(column.data());
     }
   }

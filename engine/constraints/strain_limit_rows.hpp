@@ -18,7 +18,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
 
 // Curvature blocks (strain_limit_curvature.hpp) of the strain rows with lambda > 0 that
 // have none yet, at x (the rows' linearisation point). Only those enter SQP's Hessian
-// (solve_constraints.cpp), and a block costs 18 evaluations of the tet's rows: most rows
+// (solve_constraints.cpp), and a block costs 10 evaluations of the tet's rows: most rows
 // near their limits carry no force.
 void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& rows);
 

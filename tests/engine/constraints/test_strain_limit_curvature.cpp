@@ -1,5 +1,5 @@
 // The curvature of strain-limit rows (strain_limit_curvature.hpp): the Hessian in F by
-// central differences of the analytic Jacobian must equal second differences of the
+// forward differences of the analytic Jacobian must equal second differences of the
 // constraint values themselves, and the blocks SQP uses must be the positive part of the
 // latter mapped to the tet's coordinates, symmetric, PSD and finite everywhere.
 #include <doctest/doctest.h>
