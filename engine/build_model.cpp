@@ -321,6 +321,7 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
   for (const Body& body : model.bodies) body_elements.emplace_back(body.element_offset, body.element_offset + body.num_elements());
   model.element_schedule = schedule_elements(model.element_nodes, model.num_nodes, body_elements);
   model.pattern = build_system_pattern(model.element_nodes, model.free_index, model.num_free);
+  model.node_elements = build_node_elements(model.element_nodes, model.num_nodes);
   return model;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "engine/assembly/element_schedule.hpp"
+#include "engine/assembly/node_elements.hpp"
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/collision/surface_cells.hpp"
 #include "engine/fem/hex8.hpp"
@@ -98,11 +99,16 @@ struct Model {
   // Elements split into colours that share no node, so that each colour can be
   // scattered in parallel without locks and in a fixed order (deterministic sums):
   // scatter_warped_stiffness (the constraints' curvature). A sleeping body's elements are in
-  // no colour (frozen_model.cpp). Stage 1 (assemble_system) sums per-element results on one
-  // thread in element order instead (ARCHITECTURE.md, "Determinism and threads").
+  // no colour (frozen_model.cpp). Stage 1 (assemble_system) sums per-element results by
+  // node instead (node_elements below; ARCHITECTURE.md, "Determinism and threads").
   std::vector<std::vector<int>> element_colors;
+  // Per node, its elements in ascending order: stage 1's sums into nodes (forces, b, b - A v0,
+  // element-by-element products) run in parallel by node, each in element order
+  // (node_elements.hpp). The same in a frozen model (sleepers' elements have stiffness_scale 0).
+  NodeElements node_elements;
   // The same guarantee by blocks of consecutive elements (element_schedule.hpp), read in
-  // memory order: solve_newton's hyperelastic assembly.
+  // memory order: solve_newton's hyperelastic assembly, and the system matrix before a
+  // factorisation (assemble_system_matrix).
   ElementSchedule element_schedule;
 
   SystemPattern pattern;                       // sparsity of the free-DOF system matrix
