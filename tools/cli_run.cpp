@@ -35,7 +35,9 @@ Options run_options() {
                                "                          DIR/BODY_NNNNN.vtu and the index DIR/BODY.pvd"},
        {"--realtime", "", "run paced to wall time, one frame per 1/fps s, with a simulation budget per\n"
                           "                          frame (default: the frame period, or --budget): iteration caps\n"
-                          "                          shrink to fit it; over-budget frames are counted. Not deterministic"},
+                          "                          shrink to fit it; over-budget frames are counted. Every thread\n"
+                          "                          spins the last 4 ms before each frame, so that the frame's first\n"
+                          "                          parallel stage finds them awake. Not deterministic"},
        {"--budget", "MS", "simulation budget per frame in ms (with or without --realtime): SQP, PGS\n"
                           "                          and Newton caps adapt to what is left of it. Not deterministic;\n"
                           "                          without --budget and --realtime the scene's caps hold"},

@@ -2,6 +2,8 @@
 
 #include <thread>
 
+#include "engine/realtime/worker_warmup.hpp"
+
 namespace sinew {
 
 RealtimeLoop::RealtimeLoop(const SolverDesc& scene, const RealtimeSettings& settings) : m_settings(settings) {
@@ -10,10 +12,17 @@ RealtimeLoop::RealtimeLoop(const SolverDesc& scene, const RealtimeSettings& sett
 
 FrameStats RealtimeLoop::frame(World& world, int steps) {
   if (m_counters.frames == 0) m_start = Clock::now();
+  // Paced: sleep until kWarmupLead before the frame's slot, then keep every thread awake
+  // (the workers in WorkerWarmup's tasks, this one spinning) until it.
+  std::optional<WorkerWarmup> warmup;
   if (m_settings.paced) {
     const auto slot = m_start + std::chrono::duration_cast<Clock::duration>(
                                     std::chrono::duration<double>(m_counters.frames / m_settings.fps));
-    std::this_thread::sleep_until(slot);
+    std::this_thread::sleep_until(slot - kWarmupLead);
+    warmup.emplace();
+    warmup->start();
+    while (Clock::now() < slot) std::this_thread::yield();
+    warmup->release();
   }
   const auto frame_start = Clock::now();
   FrameStats stats = simulate_frame(world, steps, [&](int i) {
