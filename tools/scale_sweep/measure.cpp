@@ -6,7 +6,9 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <thread>
 
+#include "engine/realtime/worker_warmup.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/simulate_frame.hpp"
 #include "engine/world.hpp"
@@ -28,13 +30,27 @@ std::string format(const char* fmt, auto... args) {
 }
 
 // One step of each World, each under its own thread limit; returns the round's wall time.
-// `timed` keeps the steps' profiles. A World whose step is refused stops there.
+// `timed` keeps the steps' profiles. A World whose step is refused stops there. Before a
+// timed step on several threads, the workers are kept spinning for kWarmup: through the
+// other Worlds' steps (seconds at 10k hex) they fell asleep, and a sleeping worker took 1.4
+// ms on average to join a parallel loop on the 2-core VM (engine/realtime/worker_warmup.hpp),
+// which made stage 1 look slower on 2 threads than on 1 (2,662 hex: 1.81 -> 2.15 ms; with
+// the warm-up 2.21 -> 0.98 ms). Steps run one after another, as a simulation runs, find
+// them awake. (At 9,826 hex stage 1 still measured slower on 2 threads here, 11.4 -> 18.8
+// ms, against 5.9 -> 3.05 ms for repeated calls in a harness: not understood yet.)
 double step_round(std::vector<std::unique_ptr<World>>& worlds, std::vector<ThreadRun>& runs, bool timed) {
+  constexpr auto kWarmup = std::chrono::milliseconds(5);
   const auto start = Clock::now();
   for (size_t i = 0; i < worlds.size(); ++i) {
     if (!runs[i].finite) continue;
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, runs[i].threads);
     if (timed) {
+      if (runs[i].threads > 1) {
+        WorkerWarmup warmup;
+        warmup.start();
+        const auto until = Clock::now() + kWarmup;
+        while (Clock::now() < until) std::this_thread::yield();
+      }
       runs[i].samples.push_back(simulate_frame(*worlds[i], 1));
       runs[i].finite = runs[i].samples.back().finite;
     } else {
