@@ -1,7 +1,7 @@
 #pragma once
-// The order in which the hyperelastic assembly (solve_newton), an element loop that
-// scatters into shared nodes, runs in parallel. Stage 1 keeps Model::element_colors
-// (model.hpp says why).
+// The order in which element loops that scatter into shared nodes run in parallel: the
+// hyperelastic assembly (solve_newton) and the system matrix (assemble_system_matrix).
+// Stage 1's sums into vectors go by node instead (node_elements.hpp).
 //
 // Elements are cut into blocks, runs of consecutive indices within one body, and the blocks
 // are coloured so that no two blocks of a colour share a node. A colour's blocks run in

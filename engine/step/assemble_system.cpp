@@ -171,7 +171,7 @@ namespace {
 
 // out_j = A x_j for the columns of X (1 or 2), element by element: per element
 // s_e R (Ke (R^T x_e)), 8 rotations each way and one product with Ke (both columns at once),
-// a fifth of forming R Ke R^T; summed by this thread in element order.
+// a fifth of forming R Ke R^T; summed by node in element order (add_element_blocks).
 template <int Columns>
 void multiply_elementwise(const Model& model, const State& state, const std::array<const VecX*, Columns>& x,
                           const std::array<VecX*, Columns>& out) {

@@ -2,7 +2,9 @@
 // until released, never finishes before that, and is always waited for (one thread: none).
 #include <doctest/doctest.h>
 #include <tbb/global_control.h>
+#include <tbb/task_arena.h>
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -16,7 +18,8 @@ TEST_CASE("worker warmup: a spinning task per worker, ended by release, waited f
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     WorkerWarmup warmup;
     warmup.start();
-    CHECK(warmup.started() == threads - 1);
+    // A worker per thread allowed beyond this one, as the machine has them.
+    CHECK(warmup.started() == std::min(threads, tbb::this_task_arena::max_concurrency()) - 1);
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     CHECK(warmup.finished() == 0);  // spinning, or not picked up yet: never done before release
     warmup.release();
