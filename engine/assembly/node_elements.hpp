@@ -1,6 +1,6 @@
 #pragma once
 // Per node, the elements that hold it and its place in each, by ascending element. A sum of
-// per-element terms into nodes (forces, products, the system matrix's columns) can then run
+// per-element terms into nodes (forces, b - A v0, element-by-element products) can then run
 // in parallel by node, each node taking its terms in element order: the order of one thread
 // looping over the elements, so the same bits for any thread count, and as that loop.
 #include <array>

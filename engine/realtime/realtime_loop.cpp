@@ -13,16 +13,12 @@ RealtimeLoop::RealtimeLoop(const SolverDesc& scene, const RealtimeSettings& sett
 FrameStats RealtimeLoop::frame(World& world, int steps) {
   if (m_counters.frames == 0) m_start = Clock::now();
   // Paced: sleep until kWarmupLead before the frame's slot, then keep every thread awake
-  // (the workers in WorkerWarmup's tasks, this one spinning) until it.
-  std::optional<WorkerWarmup> warmup;
+  // until it (worker_warmup.hpp).
   if (m_settings.paced) {
     const auto slot = m_start + std::chrono::duration_cast<Clock::duration>(
                                     std::chrono::duration<double>(m_counters.frames / m_settings.fps));
     std::this_thread::sleep_until(slot - kWarmupLead);
-    warmup.emplace();
-    warmup->start();
-    while (Clock::now() < slot) std::this_thread::yield();
-    warmup->release();
+    keep_threads_awake_until(slot);
   }
   const auto frame_start = Clock::now();
   FrameStats stats = simulate_frame(world, steps, [&](int i) {

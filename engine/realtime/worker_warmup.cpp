@@ -4,7 +4,6 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
-
 #include <thread>
 
 namespace sinew {
@@ -26,6 +25,12 @@ void WorkerWarmup::start() {
 void WorkerWarmup::wait() {
   release();
   m_group.wait();
+}
+
+void keep_threads_awake_until(std::chrono::steady_clock::time_point until) {
+  WorkerWarmup warmup;
+  warmup.start();
+  while (std::chrono::steady_clock::now() < until) std::this_thread::yield();
 }
 
 }  // namespace sinew

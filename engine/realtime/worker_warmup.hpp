@@ -9,6 +9,7 @@
 // unpaced (2 ms ahead: 2.63-2.93 and 0.19-0.20 ms). The price: every thread spins for the
 // last 4 ms of each wait (a quarter of the cores' time at 60 Hz).
 #include <atomic>
+#include <chrono>
 
 #include <tbb/task_group.h>
 
@@ -33,5 +34,9 @@ class WorkerWarmup {
   int m_started = 0;
   tbb::task_group m_group;
 };
+
+// Keeps every thread awake until `until`: the workers in a WorkerWarmup's tasks, this one
+// spinning; returns with the tasks ended.
+void keep_threads_awake_until(std::chrono::steady_clock::time_point until);
 
 }  // namespace sinew

@@ -71,8 +71,8 @@ void assemble_system(const Model& model, State& state) {
 
   // Rotations and elastic forces of all elements in one parallel loop, then summed into the
   // force by node (sum_by_node: each node's terms in element order, the same sums for any
-  // thread count). Colour by colour with the sums in the tasks, as before, cost 8 fork-joins. The same loop applies
-  // each element's stiffness to the start-of-step velocities, K (R^T v0) beside K u, for
+  // thread count). Colour by colour with the sums in the tasks, as before, cost 8
+  // fork-joins. The same loop applies each element's stiffness to the start-of-step velocities, K (R^T v0) beside K u, for
   // stage 3's residual b - A v0 (one product with A fewer per step).
   std::vector<double>& scale = state.stiffness_scale;
   scale.resize(model.num_elements);
@@ -131,7 +131,7 @@ void assemble_system(const Model& model, State& state) {
     if (!residual) return;
     r.segment<3>(3 * fi) = state.rhs.segment<3>(3 * fi) - mass_coefficient(model, n) * state.v.segment<3>(3 * n);
     for (int k = first; k < last; ++k)
-      if (const auto [e, a] = entries[k]; scale[e] != 0) r.segment<3>(3 * fi) += -1.0 * products[e].segment<3>(3 * a);
+      if (const auto [e, a] = entries[k]; scale[e] != 0) r.segment<3>(3 * fi) -= products[e].segment<3>(3 * a);
   });
   state.system_assembled = false;
   if (matrix_needed(model)) assemble_system_matrix(model, state);

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
-#include <thread>
 
 #include "engine/realtime/worker_warmup.hpp"
 #include "engine/scene/scene.hpp"
@@ -45,12 +44,7 @@ double step_round(std::vector<std::unique_ptr<World>>& worlds, std::vector<Threa
     if (!runs[i].finite) continue;
     const tbb::global_control limit(tbb::global_control::max_allowed_parallelism, runs[i].threads);
     if (timed) {
-      if (runs[i].threads > 1) {
-        WorkerWarmup warmup;
-        warmup.start();
-        const auto until = Clock::now() + kWarmup;
-        while (Clock::now() < until) std::this_thread::yield();
-      }
+      if (runs[i].threads > 1) keep_threads_awake_until(Clock::now() + kWarmup);
       runs[i].samples.push_back(simulate_frame(*worlds[i], 1));
       runs[i].finite = runs[i].samples.back().finite;
     } else {

@@ -1,8 +1,9 @@
 // Where SQP builds its first rows (solve_constraints.cpp). When v* strays from the
 // start-of-step velocities v0 by more than a contact margin after a constrained step, the
-// first QP is linearised at v0; rows at v* then serve only an exact factorisation's early
-// stop, so with an earlier step's factorisation they are not built at all: a step builds
-// one row table per QP iterate and line-search trial plus the first, no more.
+// first QP is linearised at v0; rows at v* then serve an exact factorisation's early stop
+// (and, otherwise, only as a fallback at the SQP cap), so with an earlier step's
+// factorisation they are not built at all: a step builds one row table per QP iterate and
+// line-search trial plus the first, no more.
 #include <doctest/doctest.h>
 
 #include <string>
