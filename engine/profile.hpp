@@ -8,16 +8,17 @@
 
 namespace sinew {
 
-// Disjoint: the stages' times add up to the step's. Rows to Pgs make up the constraint
-// solve (paper 000, section 5).
+// Disjoint: the stages' times add up to the step's (less the untimed sleep bookkeeping).
+// Rows to SqpMerit make up the constraint solve (paper 000, section 5); SqpMerit is the
+// line search's products with A and the iteration's bookkeeping.
 enum class Stage {
-  Assemble, Factorize, Solve, Rows, SqpFactorize, SqpSolve, Pgs, Integrate, Surface, Count
+  Assemble, Factorize, Solve, Rows, SqpFactorize, SqpSolve, Pgs, SqpMerit, Integrate, Surface, Count
 };
 constexpr int kStageCount = static_cast<int>(Stage::Count);
 
 inline const char* stage_name(Stage s) {
   static const char* names[] = {"assemble", "factorize", "solve", "rows", "sqp_factorize",
-                                "sqp_solve", "pgs", "integrate", "surface"};
+                                "sqp_solve", "pgs", "sqp_merit", "integrate", "surface"};
   return names[static_cast<int>(s)];
 }
 
