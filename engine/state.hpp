@@ -11,6 +11,7 @@
 #include "engine/constraints/row_column_cache.hpp"
 #include "engine/constraints/energy_screen.hpp"
 #include "engine/constraints/touched_inverse.hpp"
+#include "engine/core/kept_storage.hpp"
 #include "engine/core/scratch_matrix.hpp"
 #include "engine/core/types.hpp"
 #include "engine/profile.hpp"
@@ -21,6 +22,12 @@ namespace sinew {
 // Vectors of the step (World, solve_velocity, solve_newton, solve_constraints), kept across
 // steps so that a warm step allocates nothing: the VecX are 3 x free nodes or 3 x nodes,
 // sizes that do not change.
+// The row builders' buffers (engine/constraints/*.cpp).
+struct EnergyRowBuffers;
+struct StrainRowBuffers;
+struct ContactRowBuffers;
+struct BodyContactRowBuffers;
+
 struct StepScratch {
   VecX step_x0, step_v0, attempt_x0, attempt_v0;  // World: states to roll back to
   VecX x_iterate, v_free, v_base, v_next, dv, residual, step, correction, impulse;
@@ -30,6 +37,12 @@ struct StepScratch {
   ScratchMatrix per_row;  // m x 3: the LCP's c, J (v_base - v_k) and PGS's residual weights
   std::vector<uint64_t> keep;
   RowTable contact_rows;  // build_rows: contacts, built beside the limits' rows and appended to them
+  // The row builders' buffers (kept_storage.hpp): theirs, not thread_local, as build_rows
+  // runs them as tasks on whichever thread is free.
+  KeptStorage<EnergyRowBuffers> energy_row_buffers;
+  KeptStorage<StrainRowBuffers> strain_row_buffers;
+  KeptStorage<ContactRowBuffers> contact_row_buffers;
+  KeptStorage<BodyContactRowBuffers> body_contact_row_buffers;
   // solve_newton's
   SparseMatrix newton_A0, newton_H;
   VecX newton_x0, newton_b0, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,

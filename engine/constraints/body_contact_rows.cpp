@@ -11,7 +11,7 @@ namespace sinew {
 
 uint32_t body_partner(const Model& model, int b) { return static_cast<uint32_t>(model.obstacles.size() + b); }
 
-namespace {
+namespace body_contact_detail {
 
 struct SurfaceProbe {
   int vertex = 0;
@@ -41,6 +41,23 @@ class RowStencil {
   std::vector<int> m_nodes;
   std::vector<Vec3> m_jac;
 };
+
+}  // namespace body_contact_detail
+
+// add_body_contact_rows' kept storage (kept_storage.hpp).
+struct BodyContactRowBuffers {
+  std::vector<uint32_t> first_vertex;
+  std::vector<Aabb> bounds;
+  std::vector<char> refitted;
+  std::vector<int> candidates;
+  std::vector<body_contact_detail::SurfaceProbe> probes;
+  body_contact_detail::RowStencil stencil;
+};
+
+namespace {
+
+using body_contact_detail::RowStencil;
+using body_contact_detail::SurfaceProbe;
 
 void build_stencil(const Body& a, int vertex, const Body& b, const MeshSdf& surface, const MeshDistance& d,
                    const Vec3& direction, RowStencil& stencil) {
@@ -73,25 +90,18 @@ Vec3 surface_point_velocity(const Body& b, const MeshSdf& surface, const MeshDis
 
 ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const VecX& v,
                                         const std::vector<uint64_t>& keep, BodySurfaces& surfaces, RowTable& rows,
-                                        ContactSearch search) {
+                                        ContactSearch search, KeptStorage<BodyContactRowBuffers>* storage) {
   ContactRowsResult result;
   const int nb = static_cast<int>(model.bodies.size());
   if (nb < 2) return result;
   const double h = model.h, mu = model.solver.body_friction;
-  // Kept storage (a warm step allocates nothing), bound to local references so that the
-  // parallel tasks below see this thread's, not their own thread's.
-  thread_local std::vector<uint32_t> first_vertex_storage;
-  thread_local std::vector<Aabb> bounds_storage;
-  thread_local std::vector<char> refitted_storage;
-  thread_local std::vector<int> candidates_storage;
-  thread_local std::vector<SurfaceProbe> probes_storage;
-  thread_local RowStencil stencil_storage;
-  std::vector<uint32_t>& first_vertex = first_vertex_storage;
-  std::vector<Aabb>& bounds = bounds_storage;
-  std::vector<char>& refitted = refitted_storage;
-  std::vector<int>& candidates = candidates_storage;
-  std::vector<SurfaceProbe>& probes = probes_storage;
-  RowStencil& stencil = stencil_storage;
+  BodyContactRowBuffers& buffers = kept_or_thread_local(storage);
+  std::vector<uint32_t>& first_vertex = buffers.first_vertex;
+  std::vector<Aabb>& bounds = buffers.bounds;
+  std::vector<char>& refitted = buffers.refitted;
+  std::vector<int>& candidates = buffers.candidates;
+  std::vector<SurfaceProbe>& probes = buffers.probes;
+  RowStencil& stencil = buffers.stencil;
   first_vertex.assign(nb + 1, 0);
   for (int b = 0; b < nb; ++b)
     first_vertex[b + 1] = first_vertex[b] + static_cast<uint32_t>(model.bodies[b].embedding.cell.size());

@@ -20,8 +20,12 @@ namespace sinew {
 // Partner id of body b in row keys: obstacles come first.
 uint32_t body_partner(const Model& model, int b);
 
+struct BodyContactRowBuffers;  // body_contact_rows.cpp
+
+// `storage`: buffers kept from call to call (kept_storage.hpp); without, this thread's.
 ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const VecX& v,
                                         const std::vector<uint64_t>& keep, BodySurfaces& surfaces, RowTable& rows,
-                                        ContactSearch search = ContactSearch::BroadPhase);
+                                        ContactSearch search = ContactSearch::BroadPhase,
+                                        KeptStorage<BodyContactRowBuffers>* storage = nullptr);
 
 }  // namespace sinew

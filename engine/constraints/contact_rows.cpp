@@ -29,7 +29,7 @@ uint64_t friction_key(uint32_t vertex, uint32_t obstacle, int tangent) {
   return row_key(RowKind::Friction, vertex, 2 * obstacle + tangent);
 }
 
-namespace {
+namespace contact_rows_detail {
 
 // A surface vertex tested against one obstacle.
 struct Probe {
@@ -37,6 +37,19 @@ struct Probe {
   SdfSample sdf;
   Vec3 velocity;   // v_p = sum_n w_n v_n at the iterate
 };
+
+}  // namespace contact_rows_detail
+
+// add_contact_rows' kept storage (kept_storage.hpp).
+struct ContactRowBuffers {
+  std::vector<int> candidates;
+  std::vector<contact_rows_detail::Probe> probes, representatives;
+  std::vector<std::pair<uint32_t, int>> order;  // (site, probe index)
+};
+
+namespace {
+
+using contact_rows_detail::Probe;
 
 // Signed distance and velocity of each candidate; each probe is written by one task only.
 void evaluate_probes(const VecX& x, const VecX& v, const Body& body, const ObstacleDesc& ob,
@@ -94,8 +107,8 @@ uint32_t contact_site(const Body& body, int vertex) {
 // slow PGS). When the deepest vertex of a site changes between SQP iterations, the new
 // one joins and the old one stays (kept), so the rows still converge.
 void representative_probes(const Body& body, const std::vector<Probe>& probes, uint32_t first_vertex,
-                           uint32_t obstacle, const std::vector<uint64_t>& keep, std::vector<Probe>& out) {
-  thread_local std::vector<std::pair<uint32_t, int>> order;  // (site, probe index); kept storage
+                           uint32_t obstacle, const std::vector<uint64_t>& keep,
+                           std::vector<std::pair<uint32_t, int>>& order, std::vector<Probe>& out) {
   order.clear();
   for (int i = 0; i < static_cast<int>(probes.size()); ++i) order.emplace_back(contact_site(body, probes[i].vertex), i);
   std::sort(order.begin(), order.end());
@@ -130,16 +143,14 @@ bool moves_free_node(const Model& model, const Body& body, int vertex) {
 }  // namespace
 
 ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX& x, const VecX& v,
-                                   const std::vector<uint64_t>& keep, RowTable& rows, ContactSearch search) {
+                                   const std::vector<uint64_t>& keep, RowTable& rows, ContactSearch search,
+                                   KeptStorage<ContactRowBuffers>* storage) {
   ContactRowsResult result;
   const double h = model.h;
-  // Kept storage (a warm step allocates nothing), bound to local references so that any
-  // parallel task sees this thread's vectors, not its own thread's.
-  thread_local std::vector<int> candidates_storage;
-  thread_local std::vector<Probe> probes_storage, representatives_storage;
-  std::vector<int>& candidates = candidates_storage;
-  std::vector<Probe>& probes = probes_storage;
-  std::vector<Probe>& representatives = representatives_storage;
+  ContactRowBuffers& buffers = kept_or_thread_local(storage);
+  std::vector<int>& candidates = buffers.candidates;
+  std::vector<Probe>& probes = buffers.probes;
+  std::vector<Probe>& representatives = buffers.representatives;
   for (uint32_t k = 0; k < model.obstacles.size(); ++k) {
     const ObstacleDesc& ob = model.obstacles[k];
     const Vec3 origin = obstacle_position(ob, t_end);
@@ -165,7 +176,7 @@ ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX&
       gather_candidates(x, body, near, search == ContactSearch::BruteForce, first_vertex, k, keep, candidates);
       evaluate_probes(x, v, body, ob, origin, candidates, search == ContactSearch::BruteForce, probes);
       result.candidates += static_cast<int>(probes.size());
-      representative_probes(body, probes, first_vertex, k, keep, representatives);
+      representative_probes(body, probes, first_vertex, k, keep, buffers.order, representatives);
       for (const Probe& probe : representatives) {
         const uint32_t id = first_vertex + probe.vertex;
         const uint64_t key = contact_key(id, k);

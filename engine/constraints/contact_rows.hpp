@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "engine/constraints/row_table.hpp"
+#include "engine/core/kept_storage.hpp"
 #include "engine/model.hpp"
 
 namespace sinew {
@@ -44,6 +45,8 @@ uint64_t friction_key(uint32_t vertex, uint32_t obstacle, int tangent);
 // compare with; same rows).
 enum class ContactSearch { BroadPhase, BruteForce };
 
+struct ContactRowBuffers;  // contact_rows.cpp
+
 struct ContactRowsResult {
   double deepest = 0;   // deepest penetration max(0, -phi) over the vertices tested, m
   int candidates = 0;   // vertices that passed the broad phase
@@ -55,8 +58,10 @@ struct ContactRowsResult {
 // left out when mu = 0. Broad phase: body node bounds, then cell bounds (SurfaceCells),
 // before any vertex is tested. Rows come in a fixed order (obstacle, body, vertex), with
 // each normal row followed by its two friction rows; vertices are tested in parallel.
+// `storage`: buffers kept from call to call (kept_storage.hpp); without, this thread's.
 ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX& x, const VecX& v,
                                    const std::vector<uint64_t>& keep, RowTable& rows,
-                                   ContactSearch search = ContactSearch::BroadPhase);
+                                   ContactSearch search = ContactSearch::BroadPhase,
+                                   KeptStorage<ContactRowBuffers>* storage = nullptr);
 
 }  // namespace sinew

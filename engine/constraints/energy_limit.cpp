@@ -20,6 +20,12 @@ EnergyLimitEval evaluate_energy_limit(const Vec24& Ku, const Mat3& R, const Vec2
   return out;
 }
 
+// add_energy_limit_rows' kept storage (kept_storage.hpp).
+struct EnergyRowBuffers {
+  std::vector<double> ratio;
+  std::vector<char> bounded;
+};
+
 namespace {
 
 EnergyJacobian jacobian_mode(const Model& model, int e) {
@@ -31,18 +37,15 @@ double exact_ratio(const Model& model, const VecX& x, int e) {
   return element_limit_energy(model, e, element_corotated_displacement(model, x, e)) / model.element_Umax[e];
 }
 
-// Ue / Umax per element (0 for elements without a limit), into kept storage (a warm step
-// allocates nothing); valid until the next call on this thread. With a screen, an element
+// Ue / Umax per element (0 for elements without a limit), into `buffers`; valid until their
+// next use. With a screen, an element
 // whose bound is at most `threshold` gets the bound instead (energy_screen.hpp): it makes no
 // row either way, and the largest ratio is exact whenever it is above `threshold`. Every
 // element evaluated exactly becomes its own reference.
-const std::vector<double>& energy_ratios(const Model& model, const VecX& x, EnergyScreen* screen, double threshold) {
-  // Bound to local references: the parallel tasks below must see this thread's vectors,
-  // not their own thread's.
-  thread_local std::vector<double> storage;
-  thread_local std::vector<char> bounded_storage;
-  std::vector<double>& ratio = storage;
-  std::vector<char>& bounded = bounded_storage;
+const std::vector<double>& energy_ratios(const Model& model, const VecX& x, EnergyScreen* screen, double threshold,
+                                         EnergyRowBuffers& buffers) {
+  std::vector<double>& ratio = buffers.ratio;
+  std::vector<char>& bounded = buffers.bounded;
   ratio.assign(model.num_elements, 0.0);
   bounded.assign(model.num_elements, 0);
   if (screen) prepare_energy_screen(model, *screen);
@@ -73,8 +76,9 @@ double worst_of(const Model& model, const std::vector<double>& ratio) {
 }  // namespace
 
 double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
-                             const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen) {
-  const std::vector<double>& ratio = energy_ratios(model, x, screen, 1 - margin);
+                             const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen,
+                             KeptStorage<EnergyRowBuffers>* storage) {
+  const std::vector<double>& ratio = energy_ratios(model, x, screen, 1 - margin, kept_or_thread_local(storage));
   for (int e = 0; e < model.num_elements; ++e) {
     if (model.element_Umax[e] <= 0) continue;
     const uint64_t key = row_key(RowKind::Energy, e);
@@ -95,7 +99,7 @@ double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
 }
 
 double worst_energy_violation(const Model& model, const VecX& x) {
-  return worst_of(model, energy_ratios(model, x, nullptr, 0.0));
+  return worst_of(model, energy_ratios(model, x, nullptr, 0.0, kept_or_thread_local<EnergyRowBuffers>(nullptr)));
 }
 
 }  // namespace sinew

@@ -12,11 +12,14 @@
 //          linearised constraint then overshoots, which is what slows SQP down.
 #include "engine/constraints/energy_screen.hpp"
 #include "engine/constraints/row_table.hpp"
+#include "engine/core/kept_storage.hpp"
 #include "engine/model.hpp"
 
 namespace sinew {
 
 enum class EnergyJacobian { Exact, Warped };
+
+struct EnergyRowBuffers;  // energy_limit.cpp
 
 struct EnergyLimitEval {
   double value = 0;   // C
@@ -36,8 +39,10 @@ EnergyLimitEval evaluate_energy_limit(const Vec24& Ku, const Mat3& R, const Vec2
 // rows, and the same worst value whenever it is above -margin (below, an upper bound, still
 // below -margin: callers only compare it with positive tolerances and report its positive
 // part).
+// `storage`: buffers kept from call to call (kept_storage.hpp); without, this thread's.
 double add_energy_limit_rows(const Model& model, const VecX& x, double margin,
-                             const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen = nullptr);
+                             const std::vector<uint64_t>& keep, RowTable& rows, EnergyScreen* screen = nullptr,
+                             KeptStorage<EnergyRowBuffers>* storage = nullptr);
 
 // Worst Ue/Umax - 1 over limited elements at x (-1 when none); no rows.
 double worst_energy_violation(const Model& model, const VecX& x);

@@ -21,6 +21,15 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc) {
   return spec;
 }
 
+// add_strain_limit_rows' kept storage (kept_storage.hpp).
+struct StrainRowBuffers {
+  std::vector<double> worst;
+  std::vector<RotationVariantSvd> svds;
+  std::vector<std::pair<int, uint32_t>> kept;
+  std::vector<int> candidates;
+  std::vector<StrainLimitRows> found;
+};
+
 namespace {
 
 bool is_limited(const Model& model, int e) {
@@ -39,14 +48,9 @@ Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
 }
 
 // Per element, the worst violation (-inf without strain limits) and, when `svds` is given,
-// the SVD of its F (for the rows: one SVD per tet and build), into kept storage (a warm
-// step allocates nothing); valid until the next call on this thread.
-const std::vector<double>& worst_per_element(const Model& model, const VecX& x,
+// the SVD of its F (for the rows: one SVD per tet and build), into `worst`.
+const std::vector<double>& worst_per_element(const Model& model, const VecX& x, std::vector<double>& worst,
                                              std::vector<RotationVariantSvd>* svds = nullptr) {
-  // Bound to a local reference: the parallel tasks below must see this thread's vector,
-  // not their own thread's (so for every thread_local of this file).
-  thread_local std::vector<double> storage;
-  std::vector<double>& worst = storage;
   worst.assign(model.num_elements, -1e300);
   if (svds) svds->resize(model.num_elements);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
@@ -69,18 +73,16 @@ double overall(const Model& model, const std::vector<double>& worst) {
 }  // namespace
 
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
-                             const std::vector<uint64_t>& keep, RowTable& rows) {
+                             const std::vector<uint64_t>& keep, RowTable& rows,
+                             KeptStorage<StrainRowBuffers>* storage) {
   if (!model.has_strain_limits) return -1;
-  thread_local std::vector<RotationVariantSvd> svds_storage;
-  std::vector<RotationVariantSvd>& svds = svds_storage;
-  const std::vector<double>& worst = worst_per_element(model, x, &svds);
-  // Kept constraints per tet, as bit masks over the constraint index k. Kept storage below.
-  thread_local std::vector<std::pair<int, uint32_t>> kept_storage;
-  thread_local std::vector<int> candidates_storage;
-  thread_local std::vector<StrainLimitRows> found_storage;
-  std::vector<std::pair<int, uint32_t>>& kept = kept_storage;
-  std::vector<int>& candidates = candidates_storage;
-  std::vector<StrainLimitRows>& found = found_storage;
+  StrainRowBuffers& buffers = kept_or_thread_local(storage);
+  std::vector<RotationVariantSvd>& svds = buffers.svds;
+  const std::vector<double>& worst = worst_per_element(model, x, buffers.worst, &svds);
+  // Kept constraints per tet, as bit masks over the constraint index k.
+  std::vector<std::pair<int, uint32_t>>& kept = buffers.kept;
+  std::vector<int>& candidates = buffers.candidates;
+  std::vector<StrainLimitRows>& found = buffers.found;
   kept.clear();
   candidates.clear();
   for (uint64_t key : keep)
@@ -156,7 +158,7 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
 
 double worst_strain_limit_violation(const Model& model, const VecX& x) {
   if (!model.has_strain_limits) return -1;
-  return overall(model, worst_per_element(model, x));
+  return overall(model, worst_per_element(model, x, kept_or_thread_local<StrainRowBuffers>(nullptr).worst));
 }
 
 }  // namespace sinew

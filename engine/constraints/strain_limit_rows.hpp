@@ -3,9 +3,12 @@
 // every tet of the bodies that have strain limits.
 #include "engine/constraints/row_table.hpp"
 #include "engine/constraints/strain_limit.hpp"
+#include "engine/core/kept_storage.hpp"
 #include "engine/model.hpp"
 
 namespace sinew {
+
+struct StrainRowBuffers;  // strain_limit_rows.cpp
 
 StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
 
@@ -13,8 +16,10 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
 // rows that carried force earlier in this step). Returns the worst violation max(-C) over
 // all limited tets (-1 when none). Their curvature blocks come later, once PGS has said
 // which rows carry force (below).
+// `storage`: buffers kept from call to call (kept_storage.hpp); without, this thread's.
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
-                             const std::vector<uint64_t>& keep, RowTable& rows);
+                             const std::vector<uint64_t>& keep, RowTable& rows,
+                             KeptStorage<StrainRowBuffers>* storage = nullptr);
 
 // Curvature blocks (strain_limit_curvature.hpp) of the strain rows with lambda > 0 that
 // have none yet, at x (the rows' linearisation point). Only those enter SQP's Hessian

@@ -28,7 +28,8 @@ namespace {
 // freely on the steps in between (and sink, when g h^2 < contact_tolerance).
 double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
                   const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
-                  RowTable& contacts, BodySurfaces& surfaces, EnergyScreen& screen, StepProfile& profile) {
+                  BodySurfaces& surfaces, EnergyScreen& screen, StepScratch& sc, StepProfile& profile) {
+  RowTable& contacts = sc.contact_rows;
   rows.clear();
   // Limits and contacts share no data: built side by side (the creature: 40 and 55 us a
   // build on 2 threads, 4-5 builds a step), contacts into their own table, appended after
@@ -38,13 +39,20 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
   double energy = -1, strain = -1, penetration = 0;
   tbb::parallel_invoke(
       [&] {
-        energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows, &screen);
-        if (model.has_strain_limits) strain = add_strain_limit_rows(model, x, model.solver.strain_activation_margin, keep, rows);
+        energy = add_energy_limit_rows(model, x, model.solver.activation_margin, keep, rows, &screen,
+                                       &sc.energy_row_buffers);
+        if (model.has_strain_limits)
+          strain = add_strain_limit_rows(model, x, model.solver.strain_activation_margin, keep, rows,
+                                         &sc.strain_row_buffers);
       },
       [&] {
         if (contact)
-          penetration = std::max(add_contact_rows(model, t_end, x, v, keep, contacts).deepest,
-                                 add_body_contact_rows(model, x, v, keep, surfaces, contacts).deepest);
+          penetration = std::max(
+              add_contact_rows(model, t_end, x, v, keep, contacts, ContactSearch::BroadPhase, &sc.contact_row_buffers)
+                  .deepest,
+              add_body_contact_rows(model, x, v, keep, surfaces, contacts, ContactSearch::BroadPhase,
+                                    &sc.body_contact_row_buffers)
+                  .deepest);
       });
   rows.append(contacts);
   profile.violation["energy"] = std::max(0.0, energy);
@@ -271,8 +279,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     ++profile.work.row_builds;
     sc.x_iterate = x0 + h * s.v;
-    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, sc.contact_rows, s.body_surfaces,
-                      s.energy_screen, profile);
+    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, s.body_surfaces,
+                      s.energy_screen, sc, profile);
   };
   // v* violates something. When the previous step was constrained too, v* has left out
   // the forces that held the body (a finger pressed on a table: v* runs 0.5 m through
