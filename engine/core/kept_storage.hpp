@@ -34,8 +34,11 @@ class KeptStorage {
 // thread's.
 template <typename T>
 T& kept_or_thread_local(KeptStorage<T>* storage) {
+  if (storage) return storage->get();
+  // Declared after the test: a thread_local's first use registers its destructor, which
+  // glibc records with calloc, so a caller with buffers must not touch it.
   thread_local KeptStorage<T> own;
-  return (storage ? *storage : own).get();
+  return own.get();
 }
 
 }  // namespace sinew

@@ -7,7 +7,7 @@
 // Per step: time left per remaining step L = (budget - elapsed) / steps left. The last
 // step's cost splits into a fixed part (assembly, factorisation, integration...), Newton
 // iterations (assemble + factorize + solve per iteration, hyperelastic bodies) and SQP
-// iterations (rows + solves + PGS per iteration). The SQP cap is what fits after the fixed
+// iterations (rows + solves + PGS + the line search's products per iteration). The SQP cap is what fits after the fixed
 // part and the Newton iterations: floor((L - fixed - newton) / cost per SQP iteration); if
 // that is below one, the Newton cap is cut the same way and PGS sweeps are scaled down in
 // proportion. Every cap stays >= 1: a step always makes progress.

@@ -1,6 +1,6 @@
 // The step allocates no memory after warm-up (issue 7): heap allocation in the hot loop
 // makes frame times jitter and threads contend for the allocator. Every buffer of a step
-// is kept across steps (State::scratch, thread_local storage in the row builders, the
+// is kept across steps (State::scratch, the row builders' buffers among it, the
 // Delassus and column caches' growable storage) and CHOLMOD's memory goes through a pool
 // (engine/solve/cholmod_memory_pool.hpp). Storage still grows when a size exceeds every
 // earlier step's (more contact rows than ever before): the windows below are steps where

@@ -14,7 +14,8 @@ struct Rect {
   int x = 0, y = 0, width = 0, height = 0;
 };
 
-// The i-th colour of a fixed palette of 10 distinguishable colours (then repeats).
+// The i-th colour of a fixed palette of 12 distinguishable colours (then repeats): the
+// profile chart draws 10 stages and the untimed rest.
 Rgb series_color(int i);
 inline constexpr Rgb kInk{30, 30, 36};         // text, frame, ticks
 inline constexpr Rgb kGrid{225, 225, 230};     // grid lines
