@@ -23,6 +23,14 @@
 #include <string>
 #include <vector>
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <thread>
+
+#include "engine/constraints/contact_rows.hpp"
+#include "engine/constraints/energy_limit.hpp"
+#include "engine/constraints/strain_limit_rows.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/world.hpp"
 
@@ -143,4 +151,60 @@ TEST_CASE("a warm step allocates nothing, on 2 threads and on 1") {
       CHECK(count.ours == 0);
     }
   }
+}
+
+TEST_CASE("row builders given the step's buffers allocate nothing on a thread that never ran them") {
+  // build_rows runs the limits and the contacts as two tasks on whichever thread is free.
+  // With buffers kept per thread, a worker running a builder for the first time after
+  // warm-up allocated them (the flat finger, 7 of 36 runs of the test above under load).
+  // Here a fresh thread runs the builders with the step's own buffers (StepScratch), once
+  // oneTBB knows the thread (its registration allocates, and is not what is tested).
+  sinew::SceneDesc scene =
+      sinew::load_scene(std::string(SINEW_SOURCE_DIR) + "/assets/scenes/paper001_finger_flat_anisotropic.json");
+  scene.solver.sleep_steps = 0;
+  sinew::World world(sinew::build_model(scene, [](const std::string&) {}), sinew::initial_velocities(scene));
+  for (int i = 0; i < 90; ++i) REQUIRE(world.step());
+  sinew::State& s = world.mutable_state();
+  const sinew::Model& model = world.model();
+  std::vector<uint64_t> keep;
+  for (const auto& [key, lambda] : s.warm_start)
+    if (lambda > 0) keep.push_back(key);
+  std::sort(keep.begin(), keep.end());
+  sinew::RowTable limits, contacts;
+  sinew::StepScratch& sc = s.scratch;
+  const auto build = [&] {
+    limits.clear();
+    contacts.clear();
+    sinew::add_energy_limit_rows(model, s.x, model.solver.activation_margin, keep, limits, &s.energy_screen,
+                                 &sc.energy_row_buffers);
+    sinew::add_strain_limit_rows(model, s.x, model.solver.strain_activation_margin, keep, limits,
+                                 &sc.strain_row_buffers);
+    sinew::add_contact_rows(model, s.t + model.h, s.x, s.v, keep, contacts, sinew::ContactSearch::BroadPhase,
+                            &sc.contact_row_buffers);
+  };
+  // The same builders without buffers of their own keep them per thread: the fresh thread
+  // then allocates, which this test must be able to see.
+  const auto build_per_thread = [&] {
+    limits.clear();
+    contacts.clear();
+    sinew::add_energy_limit_rows(model, s.x, model.solver.activation_margin, keep, limits, &s.energy_screen);
+    sinew::add_strain_limit_rows(model, s.x, model.solver.strain_activation_margin, keep, limits);
+    sinew::add_contact_rows(model, s.t + model.h, s.x, s.v, keep, contacts);
+  };
+  build();  // the tables and buffers sized on this thread
+  build_per_thread();
+  REQUIRE(limits.size() > 40);
+  REQUIRE(contacts.size() > 0);
+  Count own, per_thread;
+  std::thread fresh([&] {
+    tbb::parallel_for(0, 64, [](int) {});  // oneTBB registers this thread
+    own = allocations_during(build);
+    per_thread = allocations_during(build_per_thread);
+  });
+  fresh.join();
+  MESSAGE("builders on a fresh thread: " << limits.size() << " limit rows, " << contacts.size() << " contact rows; "
+                                         << own.ours << " allocations with the step's buffers, " << per_thread.ours
+                                         << " with per-thread ones");
+  CHECK(own.ours == 0);
+  CHECK(per_thread.ours > 0);
 }
