@@ -325,7 +325,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     searching = false;
     // v* meets every row: it ends the step with an exact factorisation, and with an older one
     // when there are no rows at all (the QP from v* would be the step d = 0).
-    if (k == 0 && (s.factor_exact ? s.rows.size() == 0 || worst <= 1 : !skip_v_star && s.rows.size() == 0)) break;
+    const bool no_rows = s.rows.size() == 0;
+    if (k == 0 && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
       converged = true;
       break;

@@ -35,8 +35,8 @@ std::string format(const char* fmt, auto... args) {
 // ms on average to join a parallel loop on the 2-core VM (engine/realtime/worker_warmup.hpp),
 // which made stage 1 look slower on 2 threads than on 1 (2,662 hex: 1.81 -> 2.15 ms; with
 // the warm-up 2.21 -> 0.98 ms). Steps run one after another, as a simulation runs, find
-// them awake. (At 9,826 hex stage 1 still measured slower on 2 threads here, 11.4 -> 18.8
-// ms, against 5.9 -> 3.05 ms for repeated calls in a harness: not understood yet.)
+// them awake. (Once, sizes 1000,3000,10000 in one run, stage 1 at 9,826 hex measured
+// slower on 2 threads, 11.4 -> 18.8 ms; run alone later, 7.27 -> 4.20 ms: not understood.)
 double step_round(std::vector<std::unique_ptr<World>>& worlds, std::vector<ThreadRun>& runs, bool timed) {
   constexpr auto kWarmup = std::chrono::milliseconds(5);
   const auto start = Clock::now();
