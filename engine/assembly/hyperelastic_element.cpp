@@ -19,8 +19,38 @@ namespace {
 // couples column j of F with column m (vec(F) is column-major). Works on B's non-zero
 // pattern instead of the dense 9 x 24 product (a tet fills 12 of the 24 columns, and B has
 // one non-zero in three): ~10x fewer flops for a tet. Fills both triangles.
+// The same for a tet (n = 4), whose shape function gradients sum to zero: node 0's blocks
+// are minus the sums of the others', K_0b = -sum_a K_ab and K_00 = -sum_b K_0b, so only the
+// 3 x 3 congruence K_ab = sum_j dN_a,j T_jb, T_jb = w sum_m dN_b,m H_jm, over nodes 1-3 is
+// formed: ~880 flops instead of ~1190 (the bunny's assembly: 205 -> ~150 ns a tet).
+template <class Matrix>
+void add_tet_point_hessian_to(const Mat83& dN, const Mat9& H, double w, Matrix& hessian) {
+  Mat3 T[3][3];  // T[j][b - 1]
+  for (int b = 1; b < 4; ++b) {
+    const double d0 = w * dN(b, 0), d1 = w * dN(b, 1), d2 = w * dN(b, 2);
+    for (int j = 0; j < 3; ++j)
+      T[j][b - 1] = d0 * H.block<3, 3>(3 * j, 0) + d1 * H.block<3, 3>(3 * j, 3) + d2 * H.block<3, 3>(3 * j, 6);
+  }
+  Mat3 K[3][3];  // K[a - 1][b - 1], nodes 1-3
+  for (int a = 1; a < 4; ++a)
+    for (int b = a; b < 4; ++b) {
+      K[a - 1][b - 1] = dN(a, 0) * T[0][b - 1] + dN(a, 1) * T[1][b - 1] + dN(a, 2) * T[2][b - 1];
+      if (b != a) K[b - 1][a - 1] = K[a - 1][b - 1].transpose();
+    }
+  Mat3 K0[3];  // K_0b, b = 1-3
+  for (int b = 0; b < 3; ++b) K0[b] = -(K[0][b] + K[1][b] + K[2][b]);
+  const Mat3 K00 = -(K0[0] + K0[1] + K0[2]);
+  hessian.template block<3, 3>(0, 0) += K00;
+  for (int b = 0; b < 3; ++b) {
+    hessian.template block<3, 3>(0, 3 * b + 3) += K0[b];
+    hessian.template block<3, 3>(3 * b + 3, 0) += K0[b].transpose();
+    for (int a = 0; a < 3; ++a) hessian.template block<3, 3>(3 * a + 3, 3 * b + 3) += K[a][b];
+  }
+}
+
 template <class Matrix>
 void add_point_hessian_to(const Mat83& dN, int n, const Mat9& H, double w, Matrix& hessian) {
+  if (n == 4) return add_tet_point_hessian_to(dN, H, w, hessian);
   for (int a = 0; a < n; ++a) {
     Mat3 G[3];  // G[m] = w sum_j dN_a,j H_jm
     for (int m = 0; m < 3; ++m)

@@ -15,7 +15,8 @@ namespace sinew {
 Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes);
 
 // hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm over the first n nodes: w B^T H B for one
-// point, without forming B.
+// point, without forming B. With n = 4 (a tet) node 0's blocks follow from the others'
+// (its shape function gradient is minus their sum): equal up to round-off.
 void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat24& hessian);
 void add_point_hessian(const Mat83& dN, int n, const Mat9& H, double w, Mat12& hessian);
 
