@@ -232,7 +232,9 @@ void settle_curvature(const Model& model, State& s) {
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
   const bool constrained = has_constraints(model, s);
-  if (!constrained && s.factor_exact) {
+  // Nothing can make a row: v* ends the step, whatever the factorisation it came from (with
+  // an older one the loop below would end there too, reporting "no near-active constraint").
+  if (!constrained) {
     profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
     profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles, no energy or strain limits";
     return;

@@ -178,6 +178,21 @@ TEST_CASE("contact: a scene without obstacles or limits skips the constraint sta
   CHECK(w.state().rows.size() == 0);
 }
 
+TEST_CASE("contact: the skip says why on steps that reuse an older factorisation too") {
+  SceneDesc scene = box_scene(0.5, Vec3(0, -kGravity, 0), 0.1);
+  scene.obstacles.clear();
+  scene.solver.refactor_interval = 4;
+  World w = make_world(scene);
+  int reused = 0;
+  for (int i = 0; i < 8; ++i) {
+    REQUIRE(w.step());
+    reused += !w.state().factor_exact;
+    CHECK(w.profile().skipped[static_cast<int>(Stage::Rows)] == "scene has one body, no obstacles, no energy or strain limits");
+    CHECK(w.profile().iterations.count("sqp") == 0);
+  }
+  CHECK(reused == 6);  // steps 2-4 and 6-8 ran on the factorisation of steps 1 and 5
+}
+
 TEST_CASE("contact: the same state hash for 1 and 2 threads") {
   auto run = [](int threads) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
