@@ -44,6 +44,12 @@ class RowColumnCache {
   // Whether the last call gave every row the very column the call before it gave (the same
   // keys in the same order, each column kept, none derived): W = J Y is then unchanged.
   bool same_columns_as_previous_call() const { return m_same_as_previous; }
+  // Whether `rows` are the last call's rows bit for bit (keys, stencils and Jacobians, in
+  // order) with no reset() since: that call's columns, still where it pointed them, are
+  // the ones a call would give, and a W formed from them stands. Lets a caller skip the
+  // call (and its lookups) on SQP iterations that keep their rows: the resting creature's
+  // contacts on their plane.
+  bool repeats_last_call(const RowTable& rows) const;
   // Free nodes holding node columns (0 after reset()).
   int node_count() const { return static_cast<int>(m_nodes.size()); }
 
@@ -98,6 +104,10 @@ class RowColumnCache {
   // (kept or stored; not derived): what same_columns_as_previous_call compares against.
   std::vector<uint64_t> m_previous_keys, m_sorted_keys;
   bool m_previous_from_entries = false, m_same_as_previous = false;
+  // The last call's stencils (repeats_last_call); false after reset().
+  std::vector<int> m_previous_begin, m_previous_nodes;
+  std::vector<Vec3> m_previous_jac;
+  bool m_have_previous_call = false;
   void remember_call(const RowTable& rows);
   ScratchMatrix m_node_columns, m_derived_columns;
 };

@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/Cholesky>
+#include <cmath>
 #include <random>
 
 #include "engine/constraints/delassus.hpp"
@@ -300,4 +301,40 @@ TEST_CASE("row_column_cache: the same columns as the previous call only when W =
   d.fill(duplicates, columns);
   d.fill(duplicates, columns);
   CHECK_FALSE(duplicates.same_columns_as_previous_call());
+}
+
+TEST_CASE("row_column_cache: a call may be skipped only for the last call's rows, bit for bit, before any reset") {
+  Fixture p;
+  RowColumnCache cache;
+  std::vector<const double*> columns;
+  CHECK_FALSE(cache.repeats_last_call(p.rows));  // no call yet
+  p.fill(cache, columns);
+  CHECK(cache.repeats_last_call(p.rows));
+  // Skipped: the last call's pointers still give H^-1 J^T for these rows.
+  CHECK(p.column_error(columns) < 1e-12);
+  // One Jacobian entry moves by one ulp: not the same rows.
+  const RowTable original = p.rows;
+  double& entry = p.rows.jac[p.rows.begin[9]][0];
+  entry = std::nextafter(entry, 1e300);
+  CHECK_FALSE(cache.repeats_last_call(p.rows));
+  // Another node in a stencil, another key, the rows in another order, a row fewer.
+  p.rows = original;
+  p.rows.nodes[p.rows.begin[2]] = (p.rows.nodes[p.rows.begin[2]] + 5) % kNodes;
+  CHECK_FALSE(cache.repeats_last_call(p.rows));
+  p.rows = original;
+  p.rows.key[11] += 1000;
+  CHECK_FALSE(cache.repeats_last_call(p.rows));
+  std::vector<int> order(original.size());
+  for (int i = 0; i < original.size(); ++i) order[i] = original.size() - 1 - i;
+  CHECK_FALSE(cache.repeats_last_call(rows_in_order(original, order)));
+  order.resize(original.size() - 1);
+  for (int i = 0; i + 1 < original.size(); ++i) order[i] = i;
+  CHECK_FALSE(cache.repeats_last_call(rows_in_order(original, order)));
+  // The rows again: yes, until a new factorisation.
+  p.rows = original;
+  CHECK(cache.repeats_last_call(p.rows));
+  cache.reset();
+  CHECK_FALSE(cache.repeats_last_call(p.rows));
+  p.fill(cache, columns);
+  CHECK(cache.repeats_last_call(p.rows));
 }
