@@ -31,7 +31,7 @@ void RowColumnCache::reset() {
   m_nodes.clear();
   m_nodes_chosen = false;
   m_previous_keys.clear();
-  m_have_previous_call = false;
+  m_have_previous_call.value = false;
   m_previous_from_entries = false;
   m_same_as_previous = false;
 }
@@ -47,7 +47,7 @@ void RowColumnCache::remember_call(const RowTable& rows) {
   m_previous_begin.assign(rows.begin.begin(), rows.begin.begin() + m + 1);
   m_previous_nodes.assign(rows.nodes.begin(), rows.nodes.begin() + rows.begin[m]);
   m_previous_jac.assign(rows.jac.begin(), rows.jac.begin() + rows.begin[m]);
-  m_have_previous_call = true;
+  m_have_previous_call.value = true;
   // A stored column is its entry's unless its key appears twice (the rows then share one
   // entry, and the first one's column stays in the solve's scratch).
   m_sorted_keys.assign(rows.key.begin(), rows.key.begin() + m);
@@ -58,7 +58,7 @@ void RowColumnCache::remember_call(const RowTable& rows) {
 
 bool RowColumnCache::repeats_last_call(const RowTable& rows) const {
   const int m = rows.size();
-  if (!m_have_previous_call || m_previous_keys.size() != static_cast<size_t>(m)) return false;
+  if (!m_have_previous_call.value || m_previous_keys.size() != static_cast<size_t>(m)) return false;
   const size_t entries = static_cast<size_t>(rows.begin[m]);
   return std::equal(m_previous_keys.begin(), m_previous_keys.end(), rows.key.begin()) &&
          std::equal(m_previous_begin.begin(), m_previous_begin.end(), rows.begin.begin()) &&

@@ -107,7 +107,17 @@ class RowColumnCache {
   // The last call's stencils (repeats_last_call); false after reset().
   std::vector<int> m_previous_begin, m_previous_nodes;
   std::vector<Vec3> m_previous_jac;
-  bool m_have_previous_call = false;
+  // False in a copy or a moved-to cache too: the caller's column pointers from the last
+  // call point into the original's entries and scratch (a State copied between Worlds).
+  struct CallFlag {
+    bool value = false;
+    CallFlag() = default;
+    CallFlag(const CallFlag&) {}
+    CallFlag(CallFlag&&) noexcept {}
+    CallFlag& operator=(const CallFlag&) { value = false; return *this; }
+    CallFlag& operator=(CallFlag&&) noexcept { value = false; return *this; }
+  };
+  CallFlag m_have_previous_call;
   void remember_call(const RowTable& rows);
   ScratchMatrix m_node_columns, m_derived_columns;
 };

@@ -241,7 +241,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const bool constrained = has_constraints(model, s);
   // Nothing can make a row: v* ends the step, whatever the factorisation it came from (with
   // an older one the loop below would end there too, reporting "no near-active constraint").
-  if (!constrained) {
+  // Except just after the last constraint went (a grab released): with an older
+  // factorisation and v* far from v0 the loop refines v* by Newton iterations on A from v0
+  // (linearise_at_start), and clears what the constraints left (warm start, curvature).
+  if (!constrained && (s.factor_exact || s.warm_start.empty())) {
     profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
     profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles, no energy or strain limits";
     return;

@@ -337,4 +337,14 @@ TEST_CASE("row_column_cache: a call may be skipped only for the last call's rows
   CHECK_FALSE(cache.repeats_last_call(p.rows));
   p.fill(cache, columns);
   CHECK(cache.repeats_last_call(p.rows));
+  // A copy (a State copied from another World) or a moved-to cache: the columns pointers
+  // point into the original, so its first call must not be skipped.
+  RowColumnCache copy = cache;
+  CHECK_FALSE(copy.repeats_last_call(p.rows));
+  RowColumnCache assigned;
+  assigned = cache;
+  CHECK_FALSE(assigned.repeats_last_call(p.rows));
+  RowColumnCache moved = std::move(copy);
+  CHECK_FALSE(moved.repeats_last_call(p.rows));
+  CHECK(cache.repeats_last_call(p.rows));  // the original still may
 }

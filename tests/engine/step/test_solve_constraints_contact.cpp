@@ -10,6 +10,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/contact_rows.hpp"
 #include "tests/engine/step/contact_scenes.hpp"
 
@@ -191,6 +192,27 @@ TEST_CASE("contact: the skip says why on steps that reuse an older factorisation
     CHECK(w.profile().iterations.count("sqp") == 0);
   }
   CHECK(reused == 6);  // steps 2-4 and 6-8 ran on the factorisation of steps 1 and 5
+}
+
+TEST_CASE("contact: a grab released on a step with an older factorisation leaves no rows or warm start behind") {
+  // The step after the release can make no row, but v* from the older factorisation is far
+  // from v0 (the body snaps back): the SQP loop refines it from v0 and clears what the
+  // attachment rows left (found by review: an early return kept 3 rows and their warm start).
+  SceneDesc scene = box_scene(0.5, Vec3(0, -kGravity, 0), 0.1);
+  scene.obstacles.clear();
+  scene.solver.refactor_interval = 4;
+  World w = make_world(scene);
+  REQUIRE(w.step());  // factorises; the next three steps start from that factorisation
+  const Vec3 start = attached_point(w.model(), {0, 0, Vec3::Zero()}, w.state().x);
+  w.mutable_state().attachments.push_back({0, 0, start + Vec3(0.4, 0, 0)});
+  REQUIRE(w.step());
+  REQUIRE(w.state().rows.size() > 0);
+  REQUIRE_FALSE(w.state().warm_start.empty());
+  w.mutable_state().attachments.clear();
+  REQUIRE(w.step());
+  CHECK(w.profile().iterations.count("sqp") == 1);  // the loop ran
+  CHECK(w.state().rows.size() == 0);
+  CHECK(w.state().warm_start.empty());
 }
 
 TEST_CASE("contact: the same state hash for 1 and 2 threads") {
