@@ -22,6 +22,10 @@ inline const char* stage_name(Stage s) {
   return names[static_cast<int>(s)];
 }
 
+// The constraint solve's stages, Rows to SqpMerit: what the budget controller and the
+// benchmarks count as SQP time.
+constexpr bool is_constraint_stage(Stage s) { return s >= Stage::Rows && s <= Stage::SqpMerit; }
+
 // Work a step did, counted rather than timed, so that two runs compare on any machine (tests
 // assert on these, never on time). Not written to the stats file.
 struct StepWork {
@@ -58,6 +62,13 @@ struct StepProfile {
     work = {};
     step_ms = 0;
     finite = true;
+  }
+  // The constraint solve's time: its stages' sum (is_constraint_stage).
+  double constraint_ms() const {
+    double sum = 0;
+    for (int s = 0; s < kStageCount; ++s)
+      if (is_constraint_stage(static_cast<Stage>(s))) sum += ms[s];
+    return sum;
   }
 };
 

@@ -80,8 +80,7 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
     s.assemble.push_back(ms(Stage::Assemble));
     s.factorize.push_back(ms(Stage::Factorize));
     s.solve.push_back(ms(Stage::Solve));
-    s.constraints.push_back(ms(Stage::Rows) + ms(Stage::SqpFactorize) + ms(Stage::SqpSolve) + ms(Stage::Pgs) +
-                              ms(Stage::SqpMerit));
+    s.constraints.push_back(p.constraint_ms());
   }
   return s;
 }

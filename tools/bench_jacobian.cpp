@@ -38,8 +38,7 @@ Outcome run(double Umax, const std::string& jacobian, int frames) {
       o.pgs += p.iterations.count("pgs") ? p.iterations.at("pgs") : 0;
       o.capped += sqp >= scene.solver.sqp_max_iterations;
       o.worst = std::max(o.worst, p.violation.count("energy") ? p.violation.at("energy") : 0.0);
-      double c = 0;
-      for (Stage st : {Stage::Rows, Stage::SqpFactorize, Stage::SqpSolve, Stage::Pgs, Stage::SqpMerit}) c += p.ms[static_cast<int>(st)];
+      const double c = p.constraint_ms();
       o.constraint_ms_total += c;
       ms.push_back(c);
       ++o.steps;

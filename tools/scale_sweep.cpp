@@ -15,6 +15,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "engine/profile.hpp"
 #include "engine/io/stats_summary.hpp"
 #include "tools/bench_common.hpp"
 #include "tools/scale_sweep/report.hpp"
@@ -144,8 +145,10 @@ void print_table(const std::vector<SizeResult>& sizes) {
               "assemble", "factorize", "solve", "constraint", "surface", "sqp", "pgs");
   for (const SizeResult& s : sizes)
     for (const ThreadRun& r : s.runs) {
-      const double constraint = median_ms(r, "rows") + median_ms(r, "sqp_factorize") + median_ms(r, "sqp_solve") +
-                                median_ms(r, "pgs") + median_ms(r, "sqp_merit");
+      double constraint = 0;  // sum of the constraint stages' medians
+      for (int st = 0; st < kStageCount; ++st)
+        if (const auto stage = static_cast<Stage>(st); is_constraint_stage(stage))
+          constraint += median_ms(r, stage_name(stage));
       std::printf("%8d %8d %7d %5.0f %10.2f %10.2f %10.2f %10.2f %10.2f %9.3f %6.0f %6.0f\n", s.elements, s.dofs,
                   r.threads, quantile(bench::row_totals(r.samples), 0.5), median_ms(r, "step"),
                   median_ms(r, "assemble"), median_ms(r, "factorize"), median_ms(r, "solve"), constraint,

@@ -15,13 +15,9 @@ Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes) {
 
 namespace {
 
-// hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm, where H_jm is the 3x3 block of H that
-// couples column j of F with column m (vec(F) is column-major). Works on B's non-zero
-// pattern instead of the dense 9 x 24 product (a tet fills 12 of the 24 columns, and B has
-// one non-zero in three): ~10x fewer flops for a tet. Fills both triangles.
-// The same for a tet (n = 4), whose shape function gradients sum to zero: node 0's blocks
-// are minus the sums of the others', K_0b = -sum_a K_ab and K_00 = -sum_b K_0b, so only the
-// 3 x 3 congruence K_ab = sum_j dN_a,j T_jb, T_jb = w sum_m dN_b,m H_jm, over nodes 1-3 is
+// add_point_hessian_to (below) for a tet (n = 4), whose shape function gradients sum to
+// zero: node 0's blocks are minus the sums of the others', K_0b = -sum_a K_ab and
+// K_00 = -sum_b K_0b, so only the 3 x 3 congruence K_ab = sum_j dN_a,j T_jb, T_jb = w sum_m dN_b,m H_jm, over nodes 1-3 is
 // formed: ~880 flops instead of ~1190 (the bunny's assembly: 205 -> ~150 ns a tet).
 template <class Matrix>
 void add_tet_point_hessian_to(const Mat83& dN, const Mat9& H, double w, Matrix& hessian) {
@@ -48,6 +44,10 @@ void add_tet_point_hessian_to(const Mat83& dN, const Mat9& H, double w, Matrix& 
   }
 }
 
+// hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm, where H_jm is the 3x3 block of H that
+// couples column j of F with column m (vec(F) is column-major). Works on B's non-zero
+// pattern instead of the dense 9 x 3n product (B has one non-zero in three). Fills both
+// triangles. A tet (n = 4, the 12- and 24-wide paths alike) takes the kernel above.
 template <class Matrix>
 void add_point_hessian_to(const Mat83& dN, int n, const Mat9& H, double w, Matrix& hessian) {
   if (n == 4) return add_tet_point_hessian_to(dN, H, w, hessian);

@@ -27,9 +27,7 @@ IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const St
   const double per_step = (m_budget_ms - elapsed_ms) / steps_left;
 
   const int sqp = count(last, "sqp"), newton = count(last, "newton");
-  const double sqp_ms = stage_ms(last, Stage::Rows) + stage_ms(last, Stage::SqpFactorize) +
-                        stage_ms(last, Stage::SqpSolve) + stage_ms(last, Stage::Pgs) +
-                        stage_ms(last, Stage::SqpMerit);
+  const double sqp_ms = last.constraint_ms();
   // Newton iterations are the assemble + factorize + solve stages of a hyperelastic step.
   const double newton_ms =
       newton > 0 ? stage_ms(last, Stage::Assemble) + stage_ms(last, Stage::Factorize) + stage_ms(last, Stage::Solve) : 0;
