@@ -88,6 +88,24 @@ std::vector<BenchScene> all_scenes() {
           {"rest3boxes_asleep", rest_boxes_scene, true, 60}};
 }
 
+// A scene file as a benchmark, named after the file. Loaded up front (`loaded`), so that a
+// bad file stops the run before anything is timed or written.
+BenchScene file_scene(const std::string& path) {
+  SceneDesc loaded = load_scene(path);
+  return {std::filesystem::path(path).stem().string(), [loaded] { return loaded; }};
+}
+
+// Every assets/scenes/paper*.json, by name: issue 7's "steps per second of every paper scene".
+std::vector<std::string> paper_scene_files() {
+  std::vector<std::string> files;
+  for (const auto& entry : std::filesystem::directory_iterator(source_dir() + "/assets/scenes")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("paper", 0) == 0 && entry.path().extension() == ".json") files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
 // Tets holding an active strain limit (a row with lambda > 0) at the end of the step: the
 // "constrained tets" of paper 001's timings. Read from the multipliers the step keeps as the
 // next one's warm start (solve_constraints), since the row table itself is rebuilt, without
@@ -129,60 +147,162 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
               quantile(rows, 1.0), quantile(sqp, 0.5));
   if (quantile(tets, 1.0) > 0) std::printf(", constrained tets median %.0f", quantile(tets, 0.5));
   std::printf("\n");
-  return {{"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
+  // Throughput over the timed steps (their sum, not the median: slow steps count), and the
+  // simulated time per wall-clock second it gives.
+  double total_ms = 0;
+  nlohmann::json worst = nlohmann::json::object();
+  for (const FrameStats& sample : samples) {
+    total_ms += sample.step_ms;
+    for (const auto& [kind, value] : sample.violation)
+      worst[kind] = std::max(worst.value(kind, 0.0), value);
+  }
+  const double steps_per_second = total_ms > 0 ? 1000.0 * steps / total_ms : 0.0;
+  std::printf("  %.1f steps/s, %.2fx real time (h = %.4g s)\n", steps_per_second, steps_per_second * scene.h, scene.h);
+  return {{"steps_per_second", steps_per_second}, {"realtime_factor", steps_per_second * scene.h}, {"h", scene.h},
+          {"violation_max", worst},
+          {"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
           {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
           {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world.state().x.allFinite()},
           {"sleeping", bench.sleeping},
           {"stages", stages}};
 }
 
+void print_usage(std::FILE* to) {
+  std::fprintf(to,
+               "usage: sinew_bench [--scene NAME | --scene-file FILE... | --paper-scenes] [--steps N] [--warmup N]\n"
+               "                   [--threads T] [--linear cholmod|pcg] [--delassus-reuse N] [--pgs-subspace N]\n"
+               "                   [--sqp-acceleration conjugate|none] [--out FILE]\n"
+               "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
+               "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP iterations.\n"
+               "  --scene NAME          one built-in scene: beam56, armadillo365 (needs ../shared/meshes), block10k,\n"
+               "                        creature365, beam240tet, finger324, finger324flat, rest3boxes_awake,\n"
+               "                        rest3boxes_asleep (default: all of them)\n"
+               "  --scene-file FILE     a scene file instead (repeatable), named after the file\n"
+               "  --paper-scenes        every assets/scenes/paper*.json, with a summary table\n"
+               "  --steps N             timed steps per scene (default 100)\n"
+               "  --warmup N            untimed steps first (default 10)\n"
+               "  --threads T           worker threads (default: all cores)\n"
+               "  --linear L            solver.linear for every scene\n"
+               "  --delassus-reuse N    solver.delassus_reuse for every scene\n"
+               "  --pgs-subspace N      solver.pgs_subspace_interval for every scene (0: plain PGS)\n"
+               "  --sqp-acceleration A  solver.sqp_acceleration for every scene (none: the SQP's plain steps)\n"
+               "  --out FILE            JSON results (default bench_results.json), written when all scenes ran\n");
+}
+
+// An integer option's value, at least `min`; exits 2 with the option's name otherwise.
+int integer_option(const std::string& option, const std::string& text, int min) {
+  std::size_t used = 0;
+  int value = 0;
+  try {
+    value = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || value < min) {
+    std::fprintf(stderr, "sinew_bench: %s expects an integer >= %d, got '%s'\n", option.c_str(), min, text.c_str());
+    std::exit(2);
+  }
+  return value;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string out = "bench_results.json", only, linear, sqp_acceleration;
+  std::vector<std::string> files;
+  bool paper_scenes = false;
   int steps = 100, warmup = 10, threads = 0, delassus_reuse = 0, pgs_subspace = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     auto next = [&]() -> std::string {
-      if (i + 1 >= argc) { std::fprintf(stderr, "%s expects a value\n", arg.c_str()); std::exit(2); }
+      if (i + 1 >= argc) {
+        std::fprintf(stderr, "sinew_bench: %s expects a value\n", arg.c_str());
+        std::exit(2);
+      }
       return argv[++i];
     };
     if (arg == "--out") out = next();
-    else if (arg == "--steps") steps = std::stoi(next());
-    else if (arg == "--warmup") warmup = std::stoi(next());
-    else if (arg == "--threads") threads = std::stoi(next());
+    else if (arg == "--steps") steps = integer_option(arg, next(), 1);
+    else if (arg == "--warmup") warmup = integer_option(arg, next(), 0);
+    else if (arg == "--threads") threads = integer_option(arg, next(), 1);
     else if (arg == "--scene") only = next();
-    else if (arg == "--linear") linear = next();
-    else if (arg == "--delassus-reuse") delassus_reuse = std::stoi(next());
-    else if (arg == "--pgs-subspace") pgs_subspace = std::stoi(next());
+    else if (arg == "--scene-file") files.push_back(next());
+    else if (arg == "--paper-scenes") paper_scenes = true;
+    else if (arg == "--linear") {
+      linear = next();
+      if (linear != "cholmod" && linear != "pcg") {
+        std::fprintf(stderr, "sinew_bench: --linear expects cholmod or pcg, got '%s'\n", linear.c_str());
+        return 2;
+      }
+    } else if (arg == "--delassus-reuse") delassus_reuse = integer_option(arg, next(), 1);
+    else if (arg == "--pgs-subspace") pgs_subspace = integer_option(arg, next(), 0);
     else if (arg == "--sqp-acceleration") {
       sqp_acceleration = next();
       if (sqp_acceleration != "conjugate" && sqp_acceleration != "none") {
-        std::fprintf(stderr, "--sqp-acceleration expects conjugate or none, got '%s'\n", sqp_acceleration.c_str());
+        std::fprintf(stderr, "sinew_bench: --sqp-acceleration expects conjugate or none, got '%s'\n", sqp_acceleration.c_str());
         return 2;
       }
+    } else if (arg == "--help" || arg == "-h") {
+      print_usage(stdout);
+      return 0;
     } else {
-      std::printf("usage: sinew_bench [--scene NAME] [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg]\n"
-                  "                   [--delassus-reuse N (solver.delassus_reuse for every scene)]\n"
-                  "                   [--pgs-subspace N (solver.pgs_subspace_interval for every scene; 0: plain PGS)]\n"
-                  "                   [--sqp-acceleration conjugate|none (solver.sqp_acceleration for every scene)] [--out FILE]\n"
-                  "scenes: beam56, armadillo365 (needs ../shared/meshes), block10k, creature365, beam240tet, finger324,\n"
-                  "        finger324flat, rest3boxes_awake, rest3boxes_asleep\n");
-      return arg == "--help" ? 0 : 2;
+      std::fprintf(stderr, "sinew_bench: unknown option '%s'\n", arg.c_str());
+      print_usage(stderr);
+      return 2;
     }
   }
+  if (!only.empty() + !files.empty() + paper_scenes > 1) {
+    std::fprintf(stderr, "sinew_bench: give one of --scene, --scene-file and --paper-scenes\n");
+    return 2;
+  }
+
+  std::vector<BenchScene> scenes;
+  if (paper_scenes) files = paper_scene_files();
+  for (const std::string& file : files) {
+    try {
+      scenes.push_back(file_scene(file));
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "sinew_bench: %s\n", e.what());
+      return 2;
+    }
+  }
+  if (files.empty()) {
+    for (const BenchScene& bench : all_scenes())
+      if (only.empty() || bench.name == only) scenes.push_back(bench);
+    if (scenes.empty()) {
+      std::fprintf(stderr, "sinew_bench: no built-in scene '%s' (see --help)\n", only.c_str());
+      return 2;
+    }
+  }
+
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
 
   nlohmann::json results = {{"threads", threads > 0 ? threads : bench::processor_count()},
+                            {"cpu", bench::cpu_model()}, {"date", bench::utc_now()},
                             {"scenes", nlohmann::json::object()}};
-  for (const BenchScene& bench : all_scenes()) {
-    if (!only.empty() && bench.name != only) continue;
+  for (std::size_t k = 0; k < scenes.size(); ++k) {
+    const BenchScene& bench = scenes[k];
+    if (scenes.size() > 1) std::fprintf(stderr, "[%zu/%zu] %s\n", k + 1, scenes.size(), bench.name.c_str());
     try {
       results["scenes"][bench.name] = bench_scene(bench, warmup, steps, linear, delassus_reuse, pgs_subspace, sqp_acceleration);
     } catch (const std::exception& e) {
       std::printf("%-14s skipped: %s\n", bench.name.c_str(), e.what());
       results["scenes"][bench.name] = {{"skipped", e.what()}};
+    }
+  }
+  if (scenes.size() > 1) {
+    std::printf("\n%-36s %8s %11s %11s %10s %9s\n", "scene", "elements", "median ms", "p95 ms", "steps/s", "x real");
+    for (const BenchScene& bench : scenes) {
+      const nlohmann::json& r = results["scenes"][bench.name];
+      if (r.contains("skipped")) {
+        std::printf("%-36s skipped\n", bench.name.c_str());
+        continue;
+      }
+      const nlohmann::json& step = r["stages"]["step"];
+      std::printf("%-36s %8d %11.3f %11.3f %10.1f %9.2f\n", bench.name.c_str(), r["elements"].get<int>(),
+                  step["median_ms"].get<double>(), step["p95_ms"].get<double>(), r["steps_per_second"].get<double>(),
+                  r["realtime_factor"].get<double>());
     }
   }
   write_file_atomically(out, [&](std::ostream& s) { s << results.dump(2) << "\n"; });

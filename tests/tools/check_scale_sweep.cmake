@@ -8,39 +8,8 @@
 # PNG files of non-zero size.
 cmake_minimum_required(VERSION 3.19)  # string(JSON)
 
-# Paths (lists of keys and indices) print as a.b.0.c.
-function(fail message)
-  string(REPLACE ";" "." message "${message}")
-  message(FATAL_ERROR "scale_sweep_quick: ${message}")
-endfunction()
-
-# GET (the value) or LENGTH of the JSON at the path (a list of keys and indices), failing
-# with the path if absent.
-function(json_query out mode json)
-  string(JSON value ERROR_VARIABLE error ${mode} "${json}" ${ARGN})
-  if(error)
-    fail("${ARGN}: ${error}")
-  endif()
-  set(${out} "${value}" PARENT_SCOPE)
-endfunction()
-
-# A JSON number at the path, > `min` (or >= with OR_EQUAL); null (a NaN or Inf written by
-# the tool) and other types fail.
-function(expect_number json min)
-  cmake_parse_arguments(ARG "OR_EQUAL" "" "PATH" ${ARGN})
-  string(JSON type ERROR_VARIABLE error TYPE "${json}" ${ARG_PATH})
-  if(error OR NOT type STREQUAL "NUMBER")
-    fail("${ARG_PATH}: expected a number, got ${type} ${error}")
-  endif()
-  string(JSON value GET "${json}" ${ARG_PATH})
-  if(ARG_OR_EQUAL)
-    if(value LESS min)
-      fail("${ARG_PATH}: expected >= ${min}, got ${value}")
-    endif()
-  elseif(NOT value GREATER min)
-    fail("${ARG_PATH}: expected > ${min}, got ${value}")
-  endif()
-endfunction()
+set(CHECK_NAME scale_sweep_quick)
+include(${CMAKE_CURRENT_LIST_DIR}/json_checks.cmake)
 
 function(expect_png path)
   if(NOT EXISTS "${path}")
@@ -58,16 +27,7 @@ function(expect_png path)
 endfunction()
 
 file(REMOVE_RECURSE "${OUT}")
-execute_process(COMMAND "${SWEEP}" --quick --out "${OUT}" RESULT_VARIABLE code OUTPUT_VARIABLE stdout
-                ERROR_VARIABLE stderr)
-if(NOT code EQUAL 0)
-  fail("exit code ${code}\n${stdout}\n${stderr}")
-endif()
-file(READ "${OUT}/scale_sweep.json" json)
-string(JSON tool ERROR_VARIABLE error GET "${json}" tool)
-if(error)
-  fail("scale_sweep.json does not parse: ${error}")
-endif()
+run_for_json(json stdout "${OUT}/scale_sweep.json" "${SWEEP}" --quick --out "${OUT}")
 
 json_query(complete GET "${json}" complete)
 if(NOT complete)

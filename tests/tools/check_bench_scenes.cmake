@@ -1,0 +1,56 @@
+# ctest bench_paper_scenes_quick: runs `sinew_bench --paper-scenes` for two timed steps and
+# checks what it wrote, never how fast anything was. Usage:
+#   cmake -DBENCH=path/to/sinew_bench -DSCENES=assets/scenes -DOUT=dir -P this file.
+# Checks: bad options exit 2 and write nothing; the run exits 0; its JSON parses and holds
+# every assets/scenes/paper*.json by name, each with elements, DOFs, two timed steps, a
+# finite end state, a positive median step, steps per second and multiple of real time.
+cmake_minimum_required(VERSION 3.19)  # string(JSON)
+
+set(CHECK_NAME bench_paper_scenes_quick)
+include(${CMAKE_CURRENT_LIST_DIR}/json_checks.cmake)
+
+file(REMOVE_RECURSE "${OUT}")
+file(MAKE_DIRECTORY "${OUT}")
+set(json_file "${OUT}/bench.json")
+
+# Bad input: a clear error, exit code 2, no output file.
+foreach(bad "--steps;x" "--steps;0" "--scene;no_such_scene" "--scene-file;${OUT}/missing.json"
+            "--paper-scenes;--scene;beam56" "--linear;lu")
+  execute_process(COMMAND "${BENCH}" ${bad} --out "${json_file}" RESULT_VARIABLE code OUTPUT_QUIET
+                  ERROR_VARIABLE stderr)
+  if(NOT code EQUAL 2 OR stderr STREQUAL "")
+    fail("'${bad}': expected exit code 2 and a message, got ${code} '${stderr}'")
+  endif()
+  if(EXISTS "${json_file}")
+    fail("'${bad}' wrote ${json_file}")
+  endif()
+endforeach()
+
+run_for_json(json stdout "${json_file}" "${BENCH}" --paper-scenes --steps 2 --warmup 1 --out "${json_file}")
+
+file(GLOB paper_files "${SCENES}/paper*.json")
+list(LENGTH paper_files expected)
+json_query(measured LENGTH "${json}" scenes)
+if(NOT measured EQUAL expected OR expected LESS 20)
+  fail("${expected} paper scenes in ${SCENES}, ${measured} in the results")
+endif()
+foreach(file IN LISTS paper_files)
+  get_filename_component(name "${file}" NAME_WLE)
+  expect_number("${json}" 0 PATH scenes ${name} elements)
+  expect_number("${json}" 0 PATH scenes ${name} dofs)
+  json_query(steps GET "${json}" scenes ${name} steps)
+  if(NOT steps EQUAL 2)
+    fail("scenes.${name}.steps is ${steps}, expected 2")
+  endif()
+  json_query(finite GET "${json}" scenes ${name} finite)
+  if(NOT finite)
+    fail("scenes.${name}: the state is not finite")
+  endif()
+  expect_number("${json}" 0 PATH scenes ${name} stages step median_ms)
+  expect_number("${json}" 0 PATH scenes ${name} steps_per_second)
+  expect_number("${json}" 0 PATH scenes ${name} realtime_factor)
+endforeach()
+if(NOT stdout MATCHES "steps/s")
+  fail("no summary table on stdout")
+endif()
+message(STATUS "bench_paper_scenes_quick: ${measured} paper scenes, output well-formed")
