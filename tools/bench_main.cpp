@@ -3,6 +3,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -97,11 +98,15 @@ BenchScene file_scene(const std::string& path) {
 
 // Every assets/scenes/paper*.json, by name: issue 7's "steps per second of every paper scene".
 std::vector<std::string> paper_scene_files() {
+  const std::string folder = source_dir() + "/assets/scenes";
   std::vector<std::string> files;
-  for (const auto& entry : std::filesystem::directory_iterator(source_dir() + "/assets/scenes")) {
-    const std::string name = entry.path().filename().string();
-    if (name.rfind("paper", 0) == 0 && entry.path().extension() == ".json") files.push_back(entry.path().string());
+  std::error_code error;
+  for (std::filesystem::directory_iterator it(folder, error), end; !error && it != end; it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind("paper", 0) == 0 && it->path().extension() == ".json") files.push_back(it->path().string());
   }
+  if (error) throw InputError(folder + ": " + error.message());
+  if (files.empty()) throw InputError(folder + ": no paper*.json scene");
   std::sort(files.begin(), files.end());
   return files;
 }
@@ -135,7 +140,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
     tets.push_back(constrained_tets(world.state()));
   }
   nlohmann::json stages = nlohmann::json::object();
-  std::printf("%-14s %6d elements %7d dofs\n", bench.name.c_str(), world.model().num_elements,
+  std::printf("%-32s %6d elements %7d dofs\n", bench.name.c_str(), world.model().num_elements,
               3 * world.model().num_free);
   for (const StageSummary& s : summarize_stages(samples)) {
     stages[s.name] = {{"median_ms", s.median}, {"p95_ms", s.p95}, {"max_ms", s.max}};
@@ -153,8 +158,10 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
   nlohmann::json worst = nlohmann::json::object();
   for (const FrameStats& sample : samples) {
     total_ms += sample.step_ms;
-    for (const auto& [kind, value] : sample.violation)
-      worst[kind] = std::max(worst.value(kind, 0.0), value);
+    for (const auto& [kind, value] : sample.violation) {
+      if (worst.contains(kind) && worst[kind].is_null()) continue;  // a non-finite value stays
+      worst[kind] = std::isfinite(value) ? nlohmann::json(std::max(worst.value(kind, 0.0), value)) : nlohmann::json();
+    }
   }
   const double steps_per_second = total_ms > 0 ? 1000.0 * steps / total_ms : 0.0;
   std::printf("  %.1f steps/s, %.2fx real time (h = %.4g s)\n", steps_per_second, steps_per_second * scene.h, scene.h);
@@ -169,16 +176,17 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
 
 void print_usage(std::FILE* to) {
   std::fprintf(to,
-               "usage: sinew_bench [--scene NAME | --scene-file FILE... | --paper-scenes] [--steps N] [--warmup N]\n"
-               "                   [--threads T] [--linear cholmod|pcg] [--delassus-reuse N] [--pgs-subspace N]\n"
-               "                   [--sqp-acceleration conjugate|none] [--out FILE]\n"
+               "usage: sinew_bench [--scene NAME | --scene-file FILE [--scene-file FILE]... | --paper-scenes]\n"
+               "                   [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--delassus-reuse N]\n"
+               "                   [--pgs-subspace N] [--sqp-acceleration conjugate|none] [--out FILE]\n"
                "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
-               "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP iterations.\n"
+               "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP\n"
+               "iterations; with more than one scene, a summary table at the end.\n"
                "  --scene NAME          one built-in scene: beam56, armadillo365 (needs ../shared/meshes), block10k,\n"
                "                        creature365, beam240tet, finger324, finger324flat, rest3boxes_awake,\n"
                "                        rest3boxes_asleep (default: all of them)\n"
-               "  --scene-file FILE     a scene file instead (repeatable), named after the file\n"
-               "  --paper-scenes        every assets/scenes/paper*.json, with a summary table\n"
+               "  --scene-file FILE     a scene file instead (repeatable; file names must differ), named after it\n"
+               "  --paper-scenes        every assets/scenes/paper*.json of the source tree\n"
                "  --steps N             timed steps per scene (default 100)\n"
                "  --warmup N            untimed steps first (default 10)\n"
                "  --threads T           worker threads (default: all cores)\n"
@@ -186,126 +194,139 @@ void print_usage(std::FILE* to) {
                "  --delassus-reuse N    solver.delassus_reuse for every scene\n"
                "  --pgs-subspace N      solver.pgs_subspace_interval for every scene (0: plain PGS)\n"
                "  --sqp-acceleration A  solver.sqp_acceleration for every scene (none: the SQP's plain steps)\n"
-               "  --out FILE            JSON results (default bench_results.json), written when all scenes ran\n");
+               "  --out FILE            JSON results (default bench_results.json), written once every scene ran\n");
 }
 
-// An integer option's value, at least `min`; exits 2 with the option's name otherwise.
+// A bad command line: the message, and exit code 2 (thrown so that nothing is written).
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// An integer option's value in [min, 10^7].
 int integer_option(const std::string& option, const std::string& text, int min) {
   std::size_t used = 0;
-  int value = 0;
+  long value = 0;
   try {
-    value = std::stoi(text, &used);
+    value = std::stol(text, &used);
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used == 0 || used != text.size() || value < min) {
-    std::fprintf(stderr, "sinew_bench: %s expects an integer >= %d, got '%s'\n", option.c_str(), min, text.c_str());
-    std::exit(2);
+  constexpr long kMax = 10'000'000;
+  if (used == 0 || used != text.size() || value < min || value > kMax)
+    throw UsageError(option + " expects an integer from " + std::to_string(min) + " to " + std::to_string(kMax) +
+                     ", got '" + text + "'");
+  return static_cast<int>(value);
+}
+
+struct Options {
+  std::string out = "bench_results.json", only, linear, sqp_acceleration;
+  std::vector<std::string> files;
+  bool paper_scenes = false, help = false;
+  int steps = 100, warmup = 10, threads = 0, delassus_reuse = 0, pgs_subspace = -1;
+};
+
+Options parse_options(int argc, char** argv) {
+  Options o;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    // An option's value: present, not empty and not the next option.
+    const auto next = [&]() -> std::string {
+      if (i + 1 >= argc || argv[i + 1][0] == '\0' || std::string(argv[i + 1]).rfind("--", 0) == 0)
+        throw UsageError(arg + " expects a value");
+      return argv[++i];
+    };
+    const auto one_of = [&](const std::string& value, std::initializer_list<const char*> allowed) {
+      for (const char* a : allowed)
+        if (value == a) return value;
+      throw UsageError(arg + " does not take '" + value + "'");
+    };
+    if (arg == "--out") o.out = next();
+    else if (arg == "--steps") o.steps = integer_option(arg, next(), 1);
+    else if (arg == "--warmup") o.warmup = integer_option(arg, next(), 0);
+    else if (arg == "--threads") o.threads = integer_option(arg, next(), 1);
+    else if (arg == "--scene") o.only = next();
+    else if (arg == "--scene-file") o.files.push_back(next());
+    else if (arg == "--paper-scenes") o.paper_scenes = true;
+    else if (arg == "--linear") o.linear = one_of(next(), {"cholmod", "pcg"});
+    else if (arg == "--delassus-reuse") o.delassus_reuse = integer_option(arg, next(), 1);
+    else if (arg == "--pgs-subspace") o.pgs_subspace = integer_option(arg, next(), 0);
+    else if (arg == "--sqp-acceleration") o.sqp_acceleration = one_of(next(), {"conjugate", "none"});
+    else if (arg == "--help" || arg == "-h") o.help = true;
+    else throw UsageError("unknown option '" + arg + "' (see --help)");
   }
-  return value;
+  if (!o.only.empty() + !o.files.empty() + o.paper_scenes > 1)
+    throw UsageError("give one of --scene, --scene-file and --paper-scenes");
+  return o;
+}
+
+// The scenes to time, every file loaded; names must differ (they key the JSON).
+std::vector<BenchScene> select_scenes(const Options& o) {
+  std::vector<BenchScene> scenes;
+  const std::vector<std::string> files = o.paper_scenes ? paper_scene_files() : o.files;
+  for (const std::string& file : files) {
+    scenes.push_back(file_scene(file));
+    for (std::size_t k = 0; k + 1 < scenes.size(); ++k)
+      if (scenes[k].name == scenes.back().name)
+        throw UsageError("two scene files named " + scenes.back().name + ": " + files[k] + " and " + file);
+  }
+  if (!o.paper_scenes && files.empty()) {
+    for (const BenchScene& bench : all_scenes())
+      if (o.only.empty() || bench.name == o.only) scenes.push_back(bench);
+    if (scenes.empty()) throw UsageError("no built-in scene '" + o.only + "' (see --help)");
+  }
+  return scenes;
+}
+
+void print_summary(const std::vector<BenchScene>& scenes, const nlohmann::json& results) {
+  std::printf("\n%-36s %8s %11s %11s %10s %9s\n", "scene", "elements", "median ms", "p95 ms", "steps/s", "x real");
+  for (const BenchScene& bench : scenes) {
+    const nlohmann::json& r = results["scenes"][bench.name];
+    if (r.contains("skipped")) {
+      std::printf("%-36s skipped\n", bench.name.c_str());
+      continue;
+    }
+    const nlohmann::json& step = r["stages"]["step"];
+    std::printf("%-36s %8d %11.3f %11.3f %10.1f %9.2f\n", bench.name.c_str(), r["elements"].get<int>(),
+                step["median_ms"].get<double>(), step["p95_ms"].get<double>(), r["steps_per_second"].get<double>(),
+                r["realtime_factor"].get<double>());
+  }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string out = "bench_results.json", only, linear, sqp_acceleration;
-  std::vector<std::string> files;
-  bool paper_scenes = false;
-  int steps = 100, warmup = 10, threads = 0, delassus_reuse = 0, pgs_subspace = -1;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "sinew_bench: %s expects a value\n", arg.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (arg == "--out") out = next();
-    else if (arg == "--steps") steps = integer_option(arg, next(), 1);
-    else if (arg == "--warmup") warmup = integer_option(arg, next(), 0);
-    else if (arg == "--threads") threads = integer_option(arg, next(), 1);
-    else if (arg == "--scene") only = next();
-    else if (arg == "--scene-file") files.push_back(next());
-    else if (arg == "--paper-scenes") paper_scenes = true;
-    else if (arg == "--linear") {
-      linear = next();
-      if (linear != "cholmod" && linear != "pcg") {
-        std::fprintf(stderr, "sinew_bench: --linear expects cholmod or pcg, got '%s'\n", linear.c_str());
-        return 2;
-      }
-    } else if (arg == "--delassus-reuse") delassus_reuse = integer_option(arg, next(), 1);
-    else if (arg == "--pgs-subspace") pgs_subspace = integer_option(arg, next(), 0);
-    else if (arg == "--sqp-acceleration") {
-      sqp_acceleration = next();
-      if (sqp_acceleration != "conjugate" && sqp_acceleration != "none") {
-        std::fprintf(stderr, "sinew_bench: --sqp-acceleration expects conjugate or none, got '%s'\n", sqp_acceleration.c_str());
-        return 2;
-      }
-    } else if (arg == "--help" || arg == "-h") {
+  Options o;
+  std::vector<BenchScene> scenes;
+  try {
+    o = parse_options(argc, argv);
+    if (o.help) {
       print_usage(stdout);
       return 0;
-    } else {
-      std::fprintf(stderr, "sinew_bench: unknown option '%s'\n", arg.c_str());
-      print_usage(stderr);
-      return 2;
     }
-  }
-  if (!only.empty() + !files.empty() + paper_scenes > 1) {
-    std::fprintf(stderr, "sinew_bench: give one of --scene, --scene-file and --paper-scenes\n");
+    scenes = select_scenes(o);
+  } catch (const std::exception& e) {  // UsageError, or a scene file that does not load
+    std::fprintf(stderr, "sinew_bench: %s\n", e.what());
     return 2;
   }
 
-  std::vector<BenchScene> scenes;
-  if (paper_scenes) files = paper_scene_files();
-  for (const std::string& file : files) {
-    try {
-      scenes.push_back(file_scene(file));
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "sinew_bench: %s\n", e.what());
-      return 2;
-    }
-  }
-  if (files.empty()) {
-    for (const BenchScene& bench : all_scenes())
-      if (only.empty() || bench.name == only) scenes.push_back(bench);
-    if (scenes.empty()) {
-      std::fprintf(stderr, "sinew_bench: no built-in scene '%s' (see --help)\n", only.c_str());
-      return 2;
-    }
-  }
-
   std::unique_ptr<tbb::global_control> limit;
-  if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);
-
-  nlohmann::json results = {{"threads", threads > 0 ? threads : bench::processor_count()},
+  if (o.threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, o.threads);
+  nlohmann::json results = {{"threads", o.threads > 0 ? o.threads : bench::processor_count()},
                             {"cpu", bench::cpu_model()}, {"date", bench::utc_now()},
                             {"scenes", nlohmann::json::object()}};
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     const BenchScene& bench = scenes[k];
     if (scenes.size() > 1) std::fprintf(stderr, "[%zu/%zu] %s\n", k + 1, scenes.size(), bench.name.c_str());
     try {
-      results["scenes"][bench.name] = bench_scene(bench, warmup, steps, linear, delassus_reuse, pgs_subspace, sqp_acceleration);
+      results["scenes"][bench.name] =
+          bench_scene(bench, o.warmup, o.steps, o.linear, o.delassus_reuse, o.pgs_subspace, o.sqp_acceleration);
     } catch (const std::exception& e) {
-      std::printf("%-14s skipped: %s\n", bench.name.c_str(), e.what());
+      std::printf("%-32s skipped: %s\n", bench.name.c_str(), e.what());
       results["scenes"][bench.name] = {{"skipped", e.what()}};
     }
   }
-  if (scenes.size() > 1) {
-    std::printf("\n%-36s %8s %11s %11s %10s %9s\n", "scene", "elements", "median ms", "p95 ms", "steps/s", "x real");
-    for (const BenchScene& bench : scenes) {
-      const nlohmann::json& r = results["scenes"][bench.name];
-      if (r.contains("skipped")) {
-        std::printf("%-36s skipped\n", bench.name.c_str());
-        continue;
-      }
-      const nlohmann::json& step = r["stages"]["step"];
-      std::printf("%-36s %8d %11.3f %11.3f %10.1f %9.2f\n", bench.name.c_str(), r["elements"].get<int>(),
-                  step["median_ms"].get<double>(), step["p95_ms"].get<double>(), r["steps_per_second"].get<double>(),
-                  r["realtime_factor"].get<double>());
-    }
-  }
-  write_file_atomically(out, [&](std::ostream& s) { s << results.dump(2) << "\n"; });
-  std::printf("wrote %s\n", out.c_str());
+  if (scenes.size() > 1) print_summary(scenes, results);
+  write_file_atomically(o.out, [&](std::ostream& s) { s << results.dump(2) << "\n"; });
+  std::printf("wrote %s\n", o.out.c_str());
   return 0;
 }

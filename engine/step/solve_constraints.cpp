@@ -74,6 +74,13 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
   return worst;
 }
 
+// A step that solved no QP: PGS and the SQP's factorisation, solve and merit stages did
+// nothing (their timers, if any ran, timed no work), and the stats say why.
+void skip_qp_stages(StepProfile& profile, const char* reason) {
+  for (const Stage stage : {Stage::Pgs, Stage::SqpFactorize, Stage::SqpSolve, Stage::SqpMerit})
+    profile.skipped[static_cast<int>(stage)] = reason;
+}
+
 bool has_constraints(const Model& model, const State& s) {
   return !s.attachments.empty() || !model.obstacles.empty() || model.bodies.size() > 1 || model.has_strain_limits ||
          std::any_of(model.element_Umax.begin(), model.element_Umax.end(), [](double u) { return u > 0; });
@@ -245,7 +252,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // factorisation and v* far from v0 the loop refines v* by Newton iterations on A from v0
   // (linearise_at_start), and clears what the constraints left (warm start, curvature).
   if (!constrained && (s.factor_exact || s.warm_start.empty())) {
-    profile.skipped[static_cast<int>(Stage::Pgs)] = "nothing to solve";
+    skip_qp_stages(profile, "nothing to solve");
     profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles, no energy or strain limits";
     return;
   }
@@ -594,7 +601,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   }
   s.v_free = v_free;
   if (sqp == 0) {
-    profile.skipped[static_cast<int>(Stage::Pgs)] = s.rows.size() ? "no row violated" : "no near-active constraint";
+    skip_qp_stages(profile, s.rows.size() ? "no row violated" : "no near-active constraint");
     s.warm_start.clear();
     s.curvature.clear();
     s.curvature_blocks.clear();

@@ -1,9 +1,11 @@
 # ctest bench_paper_scenes_quick: runs `sinew_bench --paper-scenes` for two timed steps and
 # checks what it wrote, never how fast anything was. Usage:
 #   cmake -DBENCH=path/to/sinew_bench -DSCENES=assets/scenes -DOUT=dir -P this file.
-# Checks: bad options exit 2 and write nothing; the run exits 0; its JSON parses and holds
-# every assets/scenes/paper*.json by name, each with elements, DOFs, two timed steps, a
-# finite end state, a positive median step, steps per second and multiple of real time.
+# Checks: bad options and scene files (missing, malformed, two of the same name) exit 2 and
+# write nothing; the run exits 0; its JSON parses and holds every assets/scenes/paper*.json by
+# name, each with elements, DOFs, two timed steps, a finite end state, a positive median
+# step, steps per second, h, multiple of real time and an object of worst violations; the
+# summary table has its header and a row per scene.
 cmake_minimum_required(VERSION 3.19)  # string(JSON)
 
 set(CHECK_NAME bench_paper_scenes_quick)
@@ -14,8 +16,13 @@ file(MAKE_DIRECTORY "${OUT}")
 set(json_file "${OUT}/bench.json")
 
 # Bad input: a clear error, exit code 2, no output file.
-foreach(bad "--steps;x" "--steps;0" "--scene;no_such_scene" "--scene-file;${OUT}/missing.json"
-            "--paper-scenes;--scene;beam56" "--linear;lu")
+file(WRITE "${OUT}/malformed/s.json" "{\"bodies\": [}")
+file(COPY "${SCENES}/paper000_sphere_1MPa.json" DESTINATION "${OUT}/a")
+file(COPY "${SCENES}/paper000_sphere_1MPa.json" DESTINATION "${OUT}/b")
+foreach(bad "--steps;x" "--steps;0" "--warmup;-1" "--threads;0" "--scene;no_such_scene" "--scene;"
+            "--scene-file;${OUT}/missing.json" "--scene-file;${OUT}/malformed/s.json"
+            "--scene-file;${OUT}/a/paper000_sphere_1MPa.json;--scene-file;${OUT}/b/paper000_sphere_1MPa.json"
+            "--scene-file;--paper-scenes" "--paper-scenes;--scene;beam56" "--linear;lu")
   execute_process(COMMAND "${BENCH}" ${bad} --out "${json_file}" RESULT_VARIABLE code OUTPUT_QUIET
                   ERROR_VARIABLE stderr)
   if(NOT code EQUAL 2 OR stderr STREQUAL "")
@@ -49,8 +56,21 @@ foreach(file IN LISTS paper_files)
   expect_number("${json}" 0 PATH scenes ${name} stages step median_ms)
   expect_number("${json}" 0 PATH scenes ${name} steps_per_second)
   expect_number("${json}" 0 PATH scenes ${name} realtime_factor)
+  expect_number("${json}" 0 PATH scenes ${name} h)
+  json_query(kind TYPE "${json}" scenes ${name} violation_max)
+  if(NOT kind STREQUAL "OBJECT")
+    fail("scenes.${name}.violation_max is ${kind}, expected an object")
+  endif()
 endforeach()
-if(NOT stdout MATCHES "steps/s")
+# The summary table: its header, then one row per scene.
+if(NOT stdout MATCHES "scene +elements +median ms +p95 ms +steps/s +x real")
   fail("no summary table on stdout")
 endif()
+foreach(file IN LISTS paper_files)
+  get_filename_component(name "${file}" NAME_WLE)
+  string(REPLACE "." "\\." pattern "${name}")
+  if(NOT stdout MATCHES "\n${pattern} +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+ +[0-9.]+\n")
+    fail("no summary row for ${name}")
+  endif()
+endforeach()
 message(STATUS "bench_paper_scenes_quick: ${measured} paper scenes, output well-formed")

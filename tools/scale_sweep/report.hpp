@@ -20,9 +20,9 @@ std::vector<std::string> charted_stages();
 // Per timed step of a run, ms: the step's time for "step", else the stage's.
 std::vector<double> stage_samples(const ThreadRun& run, const std::string& stage);
 double median_ms(const ThreadRun& run, const std::string& stage);
-// Whether the stage did work in each timed step: not reported skipped and, for
-// sqp_factorize, an SQP refactorisation happened, for sqp_solve and sqp_merit, a QP was
-// solved (else their time is the timer's alone).
+// Whether the stage did work in each timed step: not reported skipped (a step that solved
+// no QP reports the SQP's stages skipped) and, for sqp_factorize, an SQP refactorisation
+// happened (else its time is the timer's alone).
 std::vector<bool> worked(const ThreadRun& run, const std::string& stage);
 // The median when the stage worked in more than half the timed steps, else none.
 std::optional<double> working_median_ms(const ThreadRun& run, const std::string& stage);

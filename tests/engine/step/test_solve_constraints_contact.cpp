@@ -175,8 +175,20 @@ TEST_CASE("contact: a scene without obstacles or limits skips the constraint sta
   World w = make_world(scene);
   REQUIRE(w.step());
   CHECK(w.profile().skipped[static_cast<int>(Stage::Rows)] == "scene has one body, no obstacles, no energy or strain limits");
+  for (const Stage stage : {Stage::Pgs, Stage::SqpFactorize, Stage::SqpSolve, Stage::SqpMerit})
+    CHECK(w.profile().skipped[static_cast<int>(stage)] == "nothing to solve");
   CHECK(w.profile().violation.count("penetration") == 0);
   CHECK(w.state().rows.size() == 0);
+}
+
+TEST_CASE("contact: a step that solves no QP marks PGS and the SQP's stages skipped") {
+  // The box starts 1 m above the plane (gap 1): no vertex is near it on the first step.
+  World w = make_world(box_scene(0.5, Vec3(0, -kGravity, 0), 1.0));
+  REQUIRE(w.step());
+  REQUIRE(w.profile().iterations.at("sqp") == 0);
+  for (const Stage stage : {Stage::Pgs, Stage::SqpFactorize, Stage::SqpSolve, Stage::SqpMerit})
+    CHECK(w.profile().skipped[static_cast<int>(stage)] == "no near-active constraint");
+  CHECK(w.profile().skipped[static_cast<int>(Stage::Rows)].empty());  // the rows were looked for
 }
 
 TEST_CASE("contact: the skip says why on steps that reuse an older factorisation too") {

@@ -2,48 +2,41 @@
 // work, and the working medians and speedups built on that.
 #include <doctest/doctest.h>
 
+#include "engine/simulate_frame.hpp"
+#include "tests/engine/step/contact_scenes.hpp"
 #include "tools/scale_sweep/report.hpp"
 
 using namespace sinew;
 
-namespace {
-
-// A timed step with the given stage times, skipped stages and iteration counts.
-FrameStats step_with(std::vector<std::pair<std::string, double>> stages,
-                     std::vector<std::pair<std::string, std::string>> skipped, std::map<std::string, int> iterations) {
-  FrameStats f;
-  f.stages = std::move(stages);
-  f.skipped = std::move(skipped);
-  f.iterations = std::move(iterations);
-  return f;
-}
-
-}  // namespace
-
-TEST_CASE("scale_sweep report: a step that ran no QP did no solve or merit work") {
+TEST_CASE("scale_sweep report: the SQP's stages work only in steps that solved a QP") {
+  // A box dropped 5 cm onto a plane: steps in the air find no row near, the impact and the
+  // resting steps solve QPs, and some resting steps meet every row at v* (no QP either).
+  World world = test::make_world(test::box_scene(0.5, Vec3(0, -9.81, 0), 0.05));
   sweep::ThreadRun run;
-  // Rows built but all met at v*: PGS skipped, the SQP timers ran empty (sqp 0).
-  const FrameStats met = step_with({{"rows", 0.3}, {"sqp_solve", 0.001}, {"sqp_merit", 0.001}},
-                                   {{"pgs", "no row violated"}}, {{"sqp", 0}, {"pgs", 0}});
-  // Two QPs.
-  const FrameStats solved = step_with({{"rows", 0.5}, {"sqp_solve", 2.0}, {"sqp_merit", 0.4}, {"pgs", 0.2}}, {},
-                                      {{"sqp", 2}, {"pgs", 12}});
-  run.samples = {met, solved, solved};
-  for (const std::string stage : {"sqp_solve", "sqp_merit"}) {
-    CAPTURE(stage);
-    CHECK(sweep::worked(run, stage) == std::vector<bool>{false, true, true});
+  for (int i = 0; i < 40; ++i) run.samples.push_back(simulate_frame(world, 1));
+  std::vector<bool> solved;
+  for (const FrameStats& f : run.samples) {
+    const auto sqp = f.iterations.find("sqp");
+    solved.push_back(sqp != f.iterations.end() && sqp->second > 0);
   }
-  CHECK(sweep::worked(run, "rows") == std::vector<bool>{true, true, true});
-  CHECK(sweep::worked(run, "pgs") == std::vector<bool>{false, true, true});
-  // A stats map without the "sqp" count at all (the stage never ran a QP) is no work either.
-  run.samples = {step_with({{"sqp_solve", 0.001}}, {}, {})};
-  CHECK(sweep::worked(run, "sqp_solve") == std::vector<bool>{false});
+  const long with_qp = std::count(solved.begin(), solved.end(), true);
+  REQUIRE(with_qp > 0);
+  REQUIRE(with_qp < static_cast<long>(solved.size()));
+  for (const std::string stage : {"pgs", "sqp_solve", "sqp_merit"}) {
+    CAPTURE(stage);
+    CHECK(sweep::worked(run, stage) == solved);
+  }
+  // The rows are looked for on every step of a scene with an obstacle.
+  const std::vector<bool> rows = sweep::worked(run, "rows");
+  CHECK(std::count(rows.begin(), rows.end(), true) == static_cast<long>(rows.size()));
 }
 
 TEST_CASE("scale_sweep report: working medians need work in more than half the steps") {
+  FrameStats idle, busy;
+  idle.stages = {{"sqp_solve", 0.001}};
+  idle.skipped = {{"sqp_solve", "no row violated"}};
+  busy.stages = {{"sqp_solve", 3.0}};
   sweep::ThreadRun run;
-  const FrameStats idle = step_with({{"sqp_solve", 0.001}}, {}, {{"sqp", 0}});
-  const FrameStats busy = step_with({{"sqp_solve", 3.0}}, {}, {{"sqp", 3}});
   run.samples = {idle, idle, busy};
   CHECK_FALSE(sweep::working_median_ms(run, "sqp_solve").has_value());
   run.samples = {idle, busy, busy};
