@@ -28,15 +28,25 @@ struct Term {
 };
 
 struct Terms {
+  // false: values and slopes only (C, p), for screening and values; P and Q are left unset.
+  // Either way C comes from the same operations, so both agree bit for bit.
+  bool derivatives = true;
   int count = 0;
   std::array<Term, kStrainLimitCount> term;
   // A constraint of s_i and row i of c only: P = p e_i, Q row i = q.
   void add(int k, int i, double C, double p, const Vec3& q) {
-    Mat3 Q = Mat3::Zero();
-    Q.row(i) = q.transpose();
-    term[count++] = {k, i, C, p, p * Vec3::Unit(i), Q};
+    Term& t = term[count++];
+    t.k = k, t.i = i, t.C = C, t.p = p;
+    if (!derivatives) return;
+    t.P = p * Vec3::Unit(i);
+    t.Q.setZero();
+    t.Q.row(i) = q.transpose();
   }
-  void add(int k, int i, double C, double p, const Vec3& P, const Mat3& Q) { term[count++] = {k, i, C, p, P, Q}; }
+  void add(int k, int i, double C, double p, const Vec3& P, const Mat3& Q) {
+    Term& t = term[count++];
+    t.k = k, t.i = i, t.C = C, t.p = p;
+    if (derivatives) t.P = P, t.Q = Q;
+  }
 };
 
 // Weight of principal axis l in axis i's cosine when s_i and s_l are t * kStrainLimitBlendGap
@@ -62,16 +72,18 @@ void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd&
       if (a <= kTiny) continue;
       // dC_min = a ds_i + (s_i - 1) da, da = (c_ij dc_ij + sum_l (w_il c_lj dc_lj
       //          + c_lj^2 / 2 dw_il)) / a;  C_max = const - (the same): every term negated.
-      const double g = (s(i) - 1) / a;
       Vec3 P = a * Vec3::Unit(i);
       Mat3 Q = Mat3::Zero();
-      Q(i, j) = g * c(i, j);
-      for (int l = 0; l < 3; ++l) {
-        if (l == i) continue;
-        Q(l, j) = g * w(l) * c(l, j);
-        const double dP = 0.5 * g * c(l, j) * c(l, j) * dw_ds(l);
-        P(i) += dP;
-        P(l) -= dP;
+      if (out.derivatives) {
+        const double g = (s(i) - 1) / a;
+        Q(i, j) = g * c(i, j);
+        for (int l = 0; l < 3; ++l) {
+          if (l == i) continue;
+          Q(l, j) = g * w(l) * c(l, j);
+          const double dP = 0.5 * g * c(l, j) * c(l, j) * dw_ds(l);
+          P(i) += dP;
+          P(l) -= dP;
+        }
       }
       if (has_min(spec.smin(j))) out.add(strain_limit_index(i, j, 0), i, a * (s(i) - 1) - (spec.smin(j) - 1), a, P, Q);
       if (has_max(spec.smax(j))) out.add(strain_limit_index(i, j, 1), i, (spec.smax(j) - 1) - a * (s(i) - 1), -a, -P, -Q);
@@ -158,6 +170,7 @@ void collect_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, T
 StrainLimitValues compute_strain_limit_values(const StrainLimitSpec& spec,
                                               const RotationVariantSvd& svd) {
   Terms terms;
+  terms.derivatives = false;
   collect_terms(spec, svd, terms);
   StrainLimitValues out;
   for (int t = 0; t < terms.count; ++t) {
@@ -172,6 +185,7 @@ ProjectedStrainLimits compute_projected_strain_limits(const StrainLimitSpec& spe
   // At fixed V every constraint is affine in s_i with slope p != 0 (+-1, or +-a_ij > 1e-12):
   // it vanishes at s_i - C / p, a lower bound when p > 0 and an upper one when p < 0.
   Terms terms;
+  terms.derivatives = false;
   collect_terms(spec, svd, terms);
   ProjectedStrainLimits out{Vec3::Constant(-kInf), Vec3::Constant(kInf)};
   for (int t = 0; t < terms.count; ++t) {
@@ -194,12 +208,17 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat
 void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
                            double margin, uint32_t keep, StrainLimitRows& out, double gap_tolerance) {
   out.count = 0;
+  // Values first: most tets of a scene have no row near its limit (the flat finger: 231 of
+  // 324), and their derivative coefficients would go unused.
   Terms terms;
+  terms.derivatives = false;
   collect_terms(spec, svd, terms);
   bool any = false;
   for (int t = 0; t < terms.count; ++t)
     any = any || terms.term[t].C < margin || (keep >> terms.term[t].k & 1u);
   if (!any) return;
+  terms.derivatives = true;
+  collect_terms(spec, svd, terms);
 
   // dc_ij/dF(r, c) = (dV/dF(r, c) e_i) . m_j, so sum_j q_j dc_ij/dF(r, c) = dV e_i . (M q).
   const SvdDerivative d = compute_svd_derivative(svd, gap_tolerance);
@@ -228,6 +247,7 @@ double worst_strain_violation(const StrainLimitSpec& spec, const Mat3& F) {
 
 double worst_strain_violation(const StrainLimitSpec& spec, const RotationVariantSvd& svd) {
   Terms terms;
+  terms.derivatives = false;
   collect_terms(spec, svd, terms);
   double worst = -kInf;
   for (int t = 0; t < terms.count; ++t) worst = std::max(worst, -terms.term[t].C);
