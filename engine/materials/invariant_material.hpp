@@ -19,6 +19,8 @@ Mat3 cofactor_matrix(const Mat3& F);
 // d^2 J / dF^2: 3x3 blocks (a, b) = d^2 J / df_a df_b; zero diagonal blocks,
 // (0, 1) = -[f2]x, (0, 2) = [f1]x, (1, 2) = -[f0]x, symmetric.
 Mat9 cofactor_hessian(const Mat3& F);
+// H += scale * cofactor_hessian(F), block by block (no 9 x 9 temporary).
+void add_cofactor_hessian(const Mat3& F, double scale, Mat9& H);
 
 // f(Ic) + g(J) and the four derivatives the formulas above need, at one (Ic, J).
 struct InvariantTerms {
