@@ -48,9 +48,11 @@ namespace {
 // Ke U for U of 24 rows (a tet's Ke acts on the first 12; the rest of the product is 0).
 template <int Columns>
 Eigen::Matrix<double, 24, Columns> stiffness_times(const Model& model, int e, const Eigen::Matrix<double, 24, Columns>& u) {
-  if (model.element_type[e] == ElementType::Hex8) return hex_ref(model, e).Ke * u;
+  // lazyProduct: coefficient-based, vectorised kernels; Eigen's default for these sizes is
+  // its general GEMM, whose packing cost more than the 24 x 24 x 2 product itself.
+  if (model.element_type[e] == ElementType::Hex8) return hex_ref(model, e).Ke.lazyProduct(u);
   Eigen::Matrix<double, 24, Columns> out = Eigen::Matrix<double, 24, Columns>::Zero();
-  out.template topRows<12>() = tet_ref(model, e).Ke * u.template topRows<12>();
+  out.template topRows<12>() = tet_ref(model, e).Ke.lazyProduct(u.template topRows<12>());
   return out;
 }
 
