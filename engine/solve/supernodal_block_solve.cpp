@@ -78,13 +78,26 @@ void backward(const SupernodeView& s, double* y) {
 }
 
 template <int W>
-void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, char* nonzero) {
+void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, char* nonzero, int& visited) {
   const int nsuper = static_cast<int>(L.nsuper);
   // Forward: L y = P b; a supernode the block has not reached is zero and is skipped.
   for (int s = 0; s < nsuper; ++s)
     if (nonzero[s]) forward<W>(supernode_view(L, s), y, supernode_of, nonzero);
-  // Backward: L^T z = y.
-  for (int s = nsuper - 1; s >= 0; --s) backward<W>(supernode_view(L, s), y);
+  // Backward: L^T z = y, from the roots down. z_s = 0 where y_s = 0 (not reached) and z is 0
+  // on every row below s's triangle (ancestors found zero): the block's columns then belong to
+  // other parts of the tree, e.g. to other bodies, whose blocks of L are apart. nonzero[s] now
+  // says whether z_s may be nonzero.
+  for (int s = nsuper - 1; s >= 0; --s) {
+    const SupernodeView view = supernode_view(L, s);
+    if (!nonzero[s]) {
+      bool reached = false;
+      for (int r = view.columns; r < view.height && !reached; ++r) reached = nonzero[supernode_of[view.rows[r]]];
+      if (!reached) continue;
+      nonzero[s] = 1;
+    }
+    backward<W>(view, y);
+    ++visited;
+  }
 }
 
 }  // namespace
@@ -125,6 +138,7 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int l
   const int padded = width <= 2 ? width : width <= 4 ? 4 : width <= 8 ? 8 : kMaxWidth;
   double* y = ws.y.data();
   std::fill(ws.nonzero.begin(), ws.nonzero.end(), 0);
+  ws.backward_supernodes = 0;
   // y = P b, row by row; a supernode holding a nonzero starts the forward pass there.
   for (int k = 0; k < n; ++k) {
     double* yk = y + static_cast<size_t>(k) * padded;
@@ -136,11 +150,11 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int l
     for (int c = width; c < padded; ++c) yk[c] = 0;
     if (any) ws.nonzero[m_supernode_of[k]] = 1;
   }
-  if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), ws.nonzero.data());
-  else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), ws.nonzero.data());
-  else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), ws.nonzero.data());
-  else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), ws.nonzero.data());
-  else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data());
+  if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
+  else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
+  else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
+  else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
+  else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
   // x = P^T z.
   for (int k = 0; k < n; ++k)
     for (int c = 0; c < width; ++c) X[static_cast<size_t>(c) * ldx + perm[k]] = y[static_cast<size_t>(k) * padded + c];

@@ -6,6 +6,10 @@
 // columns run in parallel only through code that calls no BLAS. The forward pass skips
 // supernodes where the whole block is still zero: H^-1 on a few nodes (touched_inverse.hpp)
 // has unit-vector columns, whose forward solve reaches only their elimination-tree paths.
+// The backward pass skips supernodes whose solution is zero: not reached by the forward pass,
+// and zero on all the rows below their triangle. With several bodies L is block-diagonal
+// (its elimination tree a forest), so a block on one body's nodes works on that body's part
+// of L alone.
 #include <cholmod.h>
 
 #include <vector>
@@ -21,7 +25,9 @@ class SupernodalBlockSolve {
   // Per-thread buffers, sized by prepare(): a warm solve allocates nothing.
   struct Workspace {
     std::vector<double> y;      // n rows of kMaxWidth values: the block in the factor's order
-    std::vector<char> nonzero;  // per supernode: the forward pass reached it
+    std::vector<char> nonzero;  // per supernode: the forward pass reached it; after the backward
+                                // pass, its solution may be nonzero
+    int backward_supernodes = 0;  // supernodes the last solve's backward pass worked on (tests)
   };
 
   // Reads L's supernode structure (once per symbolic analysis; L supernodal LL^T, int indices).
