@@ -1,5 +1,5 @@
-// sinew_bench: times steps of named scenes, per stage; medians over repeats, JSON out.
-// Warm-up steps are excluded. Speed lives here, never in unit tests.
+// sinew_bench: times steps of named scenes, per stage; medians, optionally over repeated
+// runs, JSON out. Warm-up steps are excluded. Speed lives here, never in unit tests.
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "engine/core/error.hpp"
@@ -123,7 +124,22 @@ int constrained_tets(const State& state) {
   return static_cast<int>(std::unique(tets.begin(), tets.end()) - tets.begin());
 }
 
-nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const std::string& linear,
+// One run: a fresh World, `warmup` untimed steps, then `steps` timed ones appended to
+// `samples` (and their constrained tets to `tets`). Returns the end state's hash.
+uint64_t run_once(const BenchScene& bench, const SceneDesc& scene, int warmup, int steps,
+                  std::vector<FrameStats>& samples, std::vector<double>& tets, const Model** model_out,
+                  std::unique_ptr<World>& world) {
+  world = std::make_unique<World>(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
+  for (int i = 0; i < warmup + bench.settle; ++i) world->step();
+  for (int i = 0; i < steps; ++i) {
+    samples.push_back(simulate_frame(*world, 1));
+    tets.push_back(constrained_tets(world->state()));
+  }
+  *model_out = &world->model();
+  return world->state_hash();
+}
+
+nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int repeat, const std::string& linear,
                            int delassus_reuse, int pgs_subspace, const std::string& sqp_acceleration) {
   SceneDesc scene = bench.make();
   if (!sqp_acceleration.empty()) scene.solver.sqp_acceleration = sqp_acceleration;
@@ -131,17 +147,27 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
   if (delassus_reuse > 0) scene.solver.delassus_reuse = delassus_reuse;
   if (pgs_subspace >= 0) scene.solver.pgs_subspace_interval = pgs_subspace;
   if (!bench.sleeping) scene.solver.sleep_steps = 0;
-  World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
-  for (int i = 0; i < warmup + bench.settle; ++i) world.step();
+  // Repeats run the same steps again from the start (the simulation is deterministic: their
+  // end states must agree), so that their spread shows the machine's timing noise alone.
+  // The stage figures below pool every repeat's timed steps.
   std::vector<FrameStats> samples;
-  std::vector<double> tets;
-  for (int i = 0; i < steps; ++i) {
-    samples.push_back(simulate_frame(world, 1));
-    tets.push_back(constrained_tets(world.state()));
+  std::vector<double> tets, repeat_medians;
+  std::unique_ptr<World> world;
+  const Model* model = nullptr;
+  uint64_t first_hash = 0;
+  bool identical = true;
+  for (int r = 0; r < repeat; ++r) {
+    const std::size_t begin = samples.size();
+    const uint64_t hash = run_once(bench, scene, warmup, steps, samples, tets, &model, world);
+    if (r == 0) first_hash = hash;
+    identical = identical && hash == first_hash;
+    std::vector<double> times;
+    for (std::size_t i = begin; i < samples.size(); ++i) times.push_back(samples[i].step_ms);
+    repeat_medians.push_back(quantile(times, 0.5));
+    if (repeat > 1) std::fprintf(stderr, "  %s: repeat %d/%d, median step %.4f ms\n", bench.name.c_str(), r + 1, repeat, repeat_medians.back());
   }
   nlohmann::json stages = nlohmann::json::object();
-  std::printf("%-32s %6d elements %7d dofs\n", bench.name.c_str(), world.model().num_elements,
-              3 * world.model().num_free);
+  std::printf("%-32s %6d elements %7d dofs\n", bench.name.c_str(), model->num_elements, 3 * model->num_free);
   for (const StageSummary& s : summarize_stages(samples)) {
     stages[s.name] = {{"median_ms", s.median}, {"p95_ms", s.p95}, {"max_ms", s.max}};
     std::printf("  %-12s median %9.4f ms   p95 %9.4f ms   max %9.4f ms\n", s.name.c_str(), s.median,
@@ -152,6 +178,12 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
               quantile(rows, 1.0), quantile(sqp, 0.5));
   if (quantile(tets, 1.0) > 0) std::printf(", constrained tets median %.0f", quantile(tets, 0.5));
   std::printf("\n");
+  if (repeat > 1) {
+    std::printf("  step median of each of %d repeats:", repeat);
+    for (const double m : repeat_medians) std::printf(" %.4f", m);
+    std::printf(" ms; their median %.4f ms%s\n", quantile(repeat_medians, 0.5),
+                identical ? ", every repeat ended in the same state" : "; WARNING: the repeats ended in different states");
+  }
   // Throughput over the timed steps (their sum, not the median: slow steps count), and the
   // simulated time per wall-clock second it gives.
   double total_ms = 0;
@@ -163,13 +195,15 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, const
       worst[kind] = std::isfinite(value) ? nlohmann::json(std::max(worst.value(kind, 0.0), value)) : nlohmann::json();
     }
   }
-  const double steps_per_second = total_ms > 0 ? 1000.0 * steps / total_ms : 0.0;
+  const double steps_per_second = total_ms > 0 ? 1000.0 * static_cast<double>(samples.size()) / total_ms : 0.0;
   std::printf("  %.1f steps/s, %.2fx real time (h = %.4g s)\n", steps_per_second, steps_per_second * scene.h, scene.h);
   return {{"steps_per_second", steps_per_second}, {"realtime_factor", steps_per_second * scene.h}, {"h", scene.h},
           {"violation_max", worst},
           {"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
-          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"elements", world.model().num_elements}, {"dofs", 3 * world.model().num_free},
-          {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world.state().x.allFinite()},
+          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
+          {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world->state().x.allFinite()},
+          {"repeats", repeat}, {"step_median_per_repeat", repeat_medians},
+          {"step_median_of_repeats", quantile(repeat_medians, 0.5)}, {"repeats_identical", identical},
           {"sleeping", bench.sleeping},
           {"stages", stages}};
 }
@@ -178,7 +212,7 @@ void print_usage(std::FILE* to) {
   std::fprintf(to,
                "usage: sinew_bench [--scene NAME | --scene-file FILE [--scene-file FILE]... | --paper-scenes]\n"
                "                   [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--delassus-reuse N]\n"
-               "                   [--pgs-subspace N] [--sqp-acceleration conjugate|none] [--out FILE]\n"
+               "                   [--pgs-subspace N] [--sqp-acceleration conjugate|none] [--repeat N] [--out FILE]\n"
                "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
                "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP\n"
                "iterations; with more than one scene, a summary table at the end.\n"
@@ -194,6 +228,9 @@ void print_usage(std::FILE* to) {
                "  --delassus-reuse N    solver.delassus_reuse for every scene\n"
                "  --pgs-subspace N      solver.pgs_subspace_interval for every scene (0: plain PGS)\n"
                "  --sqp-acceleration A  solver.sqp_acceleration for every scene (none: the SQP's plain steps)\n"
+               "  --repeat N            run each scene N times from the start (default 1): the stage figures\n"
+               "                        pool every run's timed steps, and each run's median step, the median of\n"
+               "                        those and whether every run ended in the same state are reported too\n"
                "  --out FILE            JSON results (default bench_results.json), written once every scene ran\n");
 }
 
@@ -222,7 +259,7 @@ struct Options {
   std::string out = "bench_results.json", only, linear, sqp_acceleration;
   std::vector<std::string> files;
   bool paper_scenes = false, help = false;
-  int steps = 100, warmup = 10, threads = 0, delassus_reuse = 0, pgs_subspace = -1;
+  int steps = 100, warmup = 10, threads = 0, delassus_reuse = 0, pgs_subspace = -1, repeat = 1;
 };
 
 Options parse_options(int argc, char** argv) {
@@ -243,6 +280,7 @@ Options parse_options(int argc, char** argv) {
     if (arg == "--out") o.out = next();
     else if (arg == "--steps") o.steps = integer_option(arg, next(), 1);
     else if (arg == "--warmup") o.warmup = integer_option(arg, next(), 0);
+    else if (arg == "--repeat") o.repeat = integer_option(arg, next(), 1);
     else if (arg == "--threads") o.threads = integer_option(arg, next(), 1);
     else if (arg == "--scene") o.only = next();
     else if (arg == "--scene-file") o.files.push_back(next());
@@ -319,7 +357,7 @@ int main(int argc, char** argv) {
     if (scenes.size() > 1) std::fprintf(stderr, "[%zu/%zu] %s\n", k + 1, scenes.size(), bench.name.c_str());
     try {
       results["scenes"][bench.name] =
-          bench_scene(bench, o.warmup, o.steps, o.linear, o.delassus_reuse, o.pgs_subspace, o.sqp_acceleration);
+          bench_scene(bench, o.warmup, o.steps, o.repeat, o.linear, o.delassus_reuse, o.pgs_subspace, o.sqp_acceleration);
     } catch (const std::exception& e) {
       std::printf("%-32s skipped: %s\n", bench.name.c_str(), e.what());
       results["scenes"][bench.name] = {{"skipped", e.what()}};

@@ -5,7 +5,8 @@
 # write nothing; the run exits 0; its JSON parses and holds every assets/scenes/paper*.json by
 # name, each with elements, DOFs, two timed steps, a finite end state, a positive median
 # step, steps per second, h, multiple of real time and an object of worst violations; the
-# summary table has its header and a row per scene.
+# summary table has its header and a row per scene. `--repeat 2` on one scene file reports two
+# per-run medians, their median, and that both runs ended in the same state.
 cmake_minimum_required(VERSION 3.19)  # string(JSON)
 
 set(CHECK_NAME bench_paper_scenes_quick)
@@ -22,7 +23,8 @@ file(COPY "${SCENES}/paper000_sphere_1MPa.json" DESTINATION "${OUT}/b")
 foreach(bad "--steps;x" "--steps;0" "--warmup;-1" "--threads;0" "--scene;no_such_scene" "--scene;"
             "--scene-file;${OUT}/missing.json" "--scene-file;${OUT}/malformed/s.json"
             "--scene-file;${OUT}/a/paper000_sphere_1MPa.json;--scene-file;${OUT}/b/paper000_sphere_1MPa.json"
-            "--scene-file;--paper-scenes" "--paper-scenes;--scene;beam56" "--linear;lu")
+            "--scene-file;--paper-scenes" "--paper-scenes;--scene;beam56" "--linear;lu" "--repeat;0"
+            "--repeat;two")
   execute_process(COMMAND "${BENCH}" ${bad} --out "${json_file}" RESULT_VARIABLE code OUTPUT_QUIET
                   ERROR_VARIABLE stderr)
   if(NOT code EQUAL 2 OR stderr STREQUAL "")
@@ -73,4 +75,19 @@ foreach(file IN LISTS paper_files)
     fail("no summary row for ${name}")
   endif()
 endforeach()
+# Repeats: the same steps run twice from the start.
+set(repeat_file "${OUT}/repeat.json")
+run_for_json(json stdout "${repeat_file}" "${BENCH}" --scene-file "${SCENES}/paper000_sphere_1MPa.json" --steps 2
+             --warmup 1 --repeat 2 --out "${repeat_file}")
+json_query(repeats GET "${json}" scenes paper000_sphere_1MPa repeats)
+json_query(medians LENGTH "${json}" scenes paper000_sphere_1MPa step_median_per_repeat)
+json_query(identical GET "${json}" scenes paper000_sphere_1MPa repeats_identical)
+if(NOT repeats EQUAL 2 OR NOT medians EQUAL 2 OR NOT identical STREQUAL "ON")
+  fail("--repeat 2: repeats ${repeats}, ${medians} per-run medians, identical ${identical}")
+endif()
+expect_number("${json}" 0 PATH scenes paper000_sphere_1MPa step_median_of_repeats)
+expect_number("${json}" 0 PATH scenes paper000_sphere_1MPa step_median_per_repeat 1)
+if(NOT stdout MATCHES "step median of each of 2 repeats: [0-9.]+ [0-9.]+ ms; their median [0-9.]+ ms, every repeat ended in the same state")
+  fail("--repeat 2: no per-run medians on stdout")
+endif()
 message(STATUS "bench_paper_scenes_quick: ${measured} paper scenes, output well-formed")
