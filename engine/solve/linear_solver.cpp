@@ -5,6 +5,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 
 #include <stdexcept>
 
@@ -153,12 +154,7 @@ void LinearSolver::solve_into(SolveWorkspace& ws, const double* columns, int row
     throw std::runtime_error("CHOLMOD solve failed (out of memory)");
 }
 
-const double* LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride, int width) {
-  const cholmod_factor* L = m_cholmod.factor();
-  if (L->is_super) {
-    m_block_solve.solve(*L, columns, stride, ws.solution.data(), ws.rows, width, ws.supernodal);
-    return ws.solution.data();
-  }
+const double* LinearSolver::solve_block(SolveWorkspace& ws, const double* columns, int stride) {
   solve_into(ws, columns, ws.rows, kSolveBlock, stride);
   return static_cast<const double*>(ws.x->x);
 }
@@ -175,14 +171,13 @@ void LinearSolver::prepare_block_workspaces(int rows) {
     ws->rows = rows;
     ws->super = super;
     ws->supernodes = supernodes;
+    if (super) {
+      m_block_solve.prepare(ws->supernodal);
+      continue;
+    }
     if (ws->padded.rows() < rows) ws->padded.resize(rows, kSolveBlock);  // kept at the largest size
     ws->padded.topRows(rows).setZero();
-    if (super) {
-      ws->solution.resize(rows, kSolveBlock);
-      m_block_solve.prepare(ws->supernodal);
-    } else {
-      solve_block(*ws, ws->padded.data(), static_cast<int>(ws->padded.rows()), kSolveBlock);  // sizes CHOLMOD's buffers
-    }
+    solve_block(*ws, ws->padded.data(), static_cast<int>(ws->padded.rows()));  // sizes CHOLMOD's buffers
   }
 }
 
@@ -229,6 +224,26 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
     // Task k owns workspace k and solves blocks k, k + P, ...: no workspace is shared, whatever
     // thread (or arena slot) runs the task.
     const int tasks = std::min<int>(blocks, static_cast<int>(m_block_workspaces.size()));
+    if (L->is_super) {
+      // Straight from B's columns into X's: no copy through a padded block (with several
+      // bodies a column's solve touches its own body's part of L, and n-long copies,
+      // zero padding and write-backs were as costly as the solve).
+      tbb::parallel_for(0, tasks, [&](int task) {
+        SolveWorkspace& ws = *m_block_workspaces[task];
+        std::array<const double*, kSolveBlock> b{};
+        std::array<double*, kSolveBlock> x{};
+        for (int block = task; block < blocks; block += tasks) {
+          const int first = block * block_width;
+          const int width = std::min<int>(block_width, count - first);
+          for (int j = 0; j < width; ++j) {
+            b[j] = B.col(order[first + j]).data();
+            x[j] = X.col(order[first + j]).data();
+          }
+          m_block_solve.solve(*L, b.data(), x.data(), width, ws.supernodal);
+        }
+      });
+      return;
+    }
     tbb::parallel_for(0, tasks, [&](int task) {
       SolveWorkspace& ws = *m_block_workspaces[task];
       const int stride = static_cast<int>(ws.padded.rows());
@@ -237,10 +252,8 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
         const int width = std::min<int>(block_width, count - first);
         for (int j = 0; j < width; ++j) ws.padded.col(j).head(n) = B.col(order[first + j]);
         if (width < kSolveBlock) ws.padded.topRightCorner(n, kSolveBlock - width).setZero();
-        // CHOLMOD solves every block kSolveBlock wide (its buffers keep their size); the
-        // supernodal solve takes a narrower last block as it is.
-        const int solved_width = L->is_super ? width : kSolveBlock;
-        const Eigen::Map<const MatX> solution(solve_block(ws, ws.padded.data(), stride, solved_width), n, kSolveBlock);
+        // CHOLMOD solves every block kSolveBlock wide: its buffers keep their size.
+        const Eigen::Map<const MatX> solution(solve_block(ws, ws.padded.data(), stride), n, kSolveBlock);
         for (int j = 0; j < width; ++j) X.col(order[first + j]) = solution.col(j);
       }
     });

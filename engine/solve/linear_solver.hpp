@@ -36,8 +36,10 @@ class LinearSolver {
   // column count alone (X is bit-identical for any number of threads). Simplicial factors:
   // cholmod_solve2 on blocks of kSolveBlock (the last one zero-padded). Supernodal factors:
   // SupernodalBlockSolve (no BLAS call, no lock; zero parts of a block skipped in the
-  // forward pass) on blocks of ceil(count / 2) columns, at most kSolveBlock, the columns
-  // ordered by their first nonzero in the factor's order; a single column by CHOLMOD.
+  // forward pass, and parts of L whose solution is zero in the backward pass) on blocks of
+  // ceil(count / 2) columns, at most kSolveBlock, the columns ordered by their first nonzero
+  // in the factor's order, read from B and written into X where they are (no copy); a single
+  // column by the tree solve or CHOLMOD.
   void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X);
   // The same, resizing X.
   void solve_many(const MatX& B, MatX& X) {
@@ -76,8 +78,7 @@ class LinearSolver {
     SolveWorkspace& operator=(const SolveWorkspace&) = delete;
     cholmod_common common;
     cholmod_dense *x = nullptr, *y = nullptr, *e = nullptr;
-    MatX padded;     // >= rows x kSolveBlock: a narrower block, zero-padded (its leading dimension)
-    MatX solution;   // rows x kSolveBlock: a supernodal block's X
+    MatX padded;     // simplicial: >= rows x kSolveBlock, a narrower block zero-padded (its leading dimension)
     SupernodalBlockSolve::Workspace supernodal;
     int rows = -1;   // the system size its buffers were made for
     bool super = false;  // ... and whether for a supernodal factor
@@ -90,9 +91,9 @@ class LinearSolver {
   void prepare_block_workspaces(int rows);
   // cholmod_solve2 of `cols` columns (leading dimension `stride`) into ws's buffers.
   void solve_into(SolveWorkspace& ws, const double* columns, int rows, int cols, int stride);
-  // X = A^-1 B for the first `width` of kSolveBlock columns (all of them for a simplicial
-  // factor); returns X (rows x kSolveBlock, leading dimension rows).
-  const double* solve_block(SolveWorkspace& ws, const double* columns, int stride, int width);
+  // Simplicial factor: X = A^-1 B for kSolveBlock columns; returns X (rows x kSolveBlock,
+  // leading dimension rows).
+  const double* solve_block(SolveWorkspace& ws, const double* columns, int stride);
   Cholmod m_cholmod;
   SupernodalBlockSolve m_block_solve;  // analysed for the current symbolic factor, or not yet
   SupernodalTreeSolve m_tree_solve;    // the same

@@ -1,6 +1,7 @@
 #include "engine/solve/supernodal_block_solve.hpp"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 
 #include "engine/solve/supernode_view.hpp"
@@ -131,6 +132,18 @@ int SupernodalBlockSolve::first_position(const double* column) const {
 void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int ldb, double* X, int ldx, int width,
                                  Workspace& ws) const {
   if (width < 1 || width > kMaxWidth) throw std::logic_error("SupernodalBlockSolve: width out of range");
+  std::array<const double*, kMaxWidth> b{};
+  std::array<double*, kMaxWidth> x{};
+  for (int c = 0; c < width; ++c) {
+    b[c] = B + static_cast<size_t>(c) * ldb;
+    x[c] = X + static_cast<size_t>(c) * ldx;
+  }
+  solve(L, b.data(), x.data(), width, ws);
+}
+
+void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b, double* const* x, int width,
+                                 Workspace& ws) const {
+  if (width < 1 || width > kMaxWidth) throw std::logic_error("SupernodalBlockSolve: width out of range");
   const int n = m_n;
   const int* perm = static_cast<const int*>(L.Perm);
   if (ws.y.size() != static_cast<size_t>(n) * kMaxWidth || ws.nonzero.size() != L.nsuper) prepare(ws);
@@ -144,7 +157,7 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int l
     double* yk = y + static_cast<size_t>(k) * padded;
     bool any = false;
     for (int c = 0; c < width; ++c) {
-      yk[c] = B[static_cast<size_t>(c) * ldb + perm[k]];
+      yk[c] = b[c][perm[k]];
       any |= yk[c] != 0;
     }
     for (int c = width; c < padded; ++c) yk[c] = 0;
@@ -157,7 +170,7 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int l
   else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
   // x = P^T z.
   for (int k = 0; k < n; ++k)
-    for (int c = 0; c < width; ++c) X[static_cast<size_t>(c) * ldx + perm[k]] = y[static_cast<size_t>(k) * padded + c];
+    for (int c = 0; c < width; ++c) x[c][perm[k]] = y[static_cast<size_t>(k) * padded + c];
 }
 
 }  // namespace sinew

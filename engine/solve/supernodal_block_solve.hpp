@@ -36,7 +36,10 @@ class SupernodalBlockSolve {
   void prepare(Workspace& ws) const;
   // The first position, in the factor's order, of a nonzero of `column` (n values); n if none.
   int first_position(const double* column) const;
-  // X = A^-1 B for `width` <= kMaxWidth columns (column-major, leading dimensions ldb and ldx).
+  // x_c = A^-1 b_c for `width` <= kMaxWidth columns: b[c] and x[c] point to n values each
+  // (the columns may lie anywhere: the caller's own storage, no copy into a block).
+  void solve(const cholmod_factor& L, const double* const* b, double* const* x, int width, Workspace& ws) const;
+  // The same for column-major B and X (leading dimensions ldb and ldx).
   void solve(const cholmod_factor& L, const double* B, int ldb, double* X, int ldx, int width,
              Workspace& ws) const;
 
