@@ -180,7 +180,7 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
     // Contacts on a plane keep their Jacobians, and so their columns, from one SQP
     // iteration (and step) to the next while the factorisation lasts: W then stands.
     if (!(s.row_columns.same_columns_as_previous_call() && s.delassus.built_direct(m)))
-      s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch);
+      s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch, &model.node_body);
     per_row = true;
     return solved;
   }

@@ -241,3 +241,46 @@ TEST_CASE("LCP splitting with an approximate W converges to the exact W's soluti
   CHECK(error <= 1e-10 * exact.norm());
   CHECK(lcp_residual(W, c, rows) <= 1e-9 * c.norm());
 }
+
+TEST_CASE("Delassus from row columns: rows on different bodies meet in zeros that are not summed") {
+  // Two bodies of 4 and 5 free nodes (node 0 fixed), H block-diagonal as no element spans two
+  // bodies; rows on one body or the other, and two on both (a contact between them).
+  std::mt19937 rng(5);
+  Problem p = random_problem(10, 30, rng);
+  const std::vector<int> node_body = {0, 0, 0, 0, 0, 1, 1, 1, 1, 1};
+  const int dofs = static_cast<int>(p.H.rows());
+  for (int a = 0; a < dofs; ++a)
+    for (int b = 0; b < dofs; ++b)
+      if (node_body[a / 3 + 1] != node_body[b / 3 + 1]) p.H(a, b) = 0;
+  // random_problem's rows span random nodes: make each a one-body row, but rows 0 and 1.
+  RowTable rows;
+  std::uniform_int_distribution<int> first(0, 4), second(5, 9);
+  std::normal_distribution<double> normal;
+  for (int i = 0; i < 30; ++i) {
+    rows.add_row(RowKind::Contact, 0, 0, 1e300, i);
+    const bool both = i < 2, on_second = i % 2 == 1;
+    const int a = both || !on_second ? first(rng) : second(rng);
+    rows.add_entry(a, Vec3(normal(rng), normal(rng), normal(rng)));
+    const int b = both || on_second ? second(rng) : first(rng);
+    if (b != a) rows.add_entry(b, Vec3(normal(rng), normal(rng), normal(rng)));
+  }
+  p.rows = rows;
+  const Eigen::LLT<MatX> llt(p.H);
+  const MatX J = jacobian(p);
+  const MatX Y = llt.solve(J.transpose());
+  std::vector<const double*> columns(30);
+  for (int i = 0; i < 30; ++i) columns[i] = Y.col(i).data();
+
+  Delassus summed, masked;
+  summed.build_direct(p.rows, p.free_index, columns);
+  masked.build_direct(p.rows, p.free_index, columns, &node_body);
+  CHECK(summed.zero_entries() == 0);
+  // Rows 2, 4, ..., 28 on body 0 and 3, 5, ..., 29 on body 1 (fixed node 0 adds no body):
+  // 14 x 14 pairs apart, plus none for rows 0 and 1, which touch both.
+  CHECK(masked.zero_entries() == 14 * 14);
+  CHECK(masked.summed_entries() + masked.zero_entries() == 30 * 31 / 2);
+  // The same W, bit for bit: the entries left out are sums of exact zeros.
+  CHECK((masked.matrix() - summed.matrix()).cwiseAbs().maxCoeff() == 0.0);
+  const MatX expected = J * Y;
+  CHECK((masked.matrix() - expected).norm() < 1e-12 * expected.norm());
+}

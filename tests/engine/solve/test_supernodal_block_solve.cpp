@@ -86,6 +86,15 @@ TEST_CASE("supernodal block solve: columns on one of two disconnected grids skip
     // The backward pass reached the first grid's root, hence every supernode below it, and
     // none of the second grid's.
     CHECK(ws.backward_supernodes == first_supernodes);
+    // The skipped parts are exactly what a full backward pass computes: with a sixth column on
+    // the second grid in the block (the same kernel width, 8, whose columns do not mix), every
+    // supernode is visited, and the first five columns come out bit for bit the same.
+    MatX B6 = MatX::Zero(2 * n, width + 1), X6(2 * n, width + 1);
+    B6.leftCols(width) = B;
+    B6(n + 40, width) = 1.0;
+    solve.solve(L, B6.data(), 2 * n, X6.data(), 2 * n, width + 1, ws);
+    CHECK(ws.backward_supernodes == static_cast<int>(L.nsuper));
+    CHECK((X6.leftCols(width) - X).cwiseAbs().maxCoeff() == 0.0);
     // The same columns one at a time: the same solutions, each on the first grid's part alone.
     for (int c = 0; c < width; ++c) {
       VecX x(2 * n);
