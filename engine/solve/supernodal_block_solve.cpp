@@ -152,25 +152,32 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b
   double* y = ws.y.data();
   std::fill(ws.nonzero.begin(), ws.nonzero.end(), 0);
   ws.backward_supernodes = 0;
-  // y = P b, row by row; a supernode holding a nonzero starts the forward pass there.
-  for (int k = 0; k < n; ++k) {
-    double* yk = y + static_cast<size_t>(k) * padded;
-    bool any = false;
-    for (int c = 0; c < width; ++c) {
-      yk[c] = b[c][perm[k]];
-      any |= yk[c] != 0;
-    }
-    for (int c = width; c < padded; ++c) yk[c] = 0;
-    if (any) ws.nonzero[m_supernode_of[k]] = 1;
+  // y = P b: zeroed, then each column's nonzeros placed, read in b's own order (the columns
+  // are sparse: a row's stencil, a node's unit vectors); a supernode holding a nonzero
+  // starts the forward pass there. Reading b in the factor's order cost a random access
+  // per row and column, most of them zeros (the default demo: 11 % of its run).
+  std::fill_n(y, static_cast<size_t>(n) * padded, 0.0);
+  for (int c = 0; c < width; ++c) {
+    const double* column = b[c];
+    for (int i = 0; i < n; ++i)
+      if (column[i] != 0) {
+        const int k = m_position[i];
+        y[static_cast<size_t>(k) * padded + c] = column[i];
+        ws.nonzero[m_supernode_of[k]] = 1;
+      }
   }
   if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
   else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
   else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
   else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
   else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
-  // x = P^T z.
-  for (int k = 0; k < n; ++k)
-    for (int c = 0; c < width; ++c) x[c][perm[k]] = y[static_cast<size_t>(k) * padded + c];
+  // x = P^T z: zero outside the supernodes the backward pass worked on.
+  const int* super = static_cast<const int*>(L.super);
+  for (int c = 0; c < width; ++c) std::fill_n(x[c], n, 0.0);
+  for (int s = 0; s < static_cast<int>(L.nsuper); ++s)
+    if (ws.nonzero[s])
+      for (int k = super[s]; k < super[s + 1]; ++k)
+        for (int c = 0; c < width; ++c) x[c][perm[k]] = y[static_cast<size_t>(k) * padded + c];
 }
 
 }  // namespace sinew
