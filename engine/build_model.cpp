@@ -313,6 +313,12 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
     model.bodies.push_back(std::move(body));
   }
 
+  // Every element on one body's nodes: the system matrix then couples no two bodies, which
+  // the constraint solve relies on (Delassus::build_direct leaves rows on no common body out).
+  for (int e = 0; e < model.num_elements; ++e)
+    for (int a = 0; a < (model.element_type[e] == ElementType::Hex8 ? 8 : 4); ++a)
+      if (model.node_body[model.element_nodes[e][a]] != model.element_body[e])
+        throw std::logic_error("build_model: an element spans two bodies");
   model.rest_x.resize(3 * model.num_nodes);
   for (int n = 0; n < model.num_nodes; ++n) model.rest_x.segment<3>(3 * n) = rest[n];
   for (int& f : model.free_index)

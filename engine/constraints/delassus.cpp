@@ -86,10 +86,6 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
     for (int i = 0; i < m; ++i)
       for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
         if (free_index[rows.nodes[e]] >= 0) m_body_mask[i] |= uint64_t{1} << ((*node_body)[rows.nodes[e]] & 63);
-  m_zero = 0;
-  for (int j = 0; j < m; ++j)
-    for (int i = j; i < m; ++i) m_zero += (m_body_mask[i] & m_body_mask[j]) == 0;
-  m_summed = static_cast<long>(m) * (m + 1) / 2 - m_zero;
   // W_ij = J_i Y_j over row i's stencil: the creature's 96 rows of 8 nodes each cost 110k
   // multiply-adds a build, at every SQP iteration; the default demo's three creatures,
   // 300-600 rows, a third of that when rows on different bodies are left out.
@@ -106,6 +102,14 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
   m_k3 = 0;
   m_dense = true;
   m_direct = true;
+}
+
+long Delassus::zero_entries() const {
+  if (!m_direct) return 0;
+  long zero = 0;
+  for (int j = 0; j < size(); ++j)
+    for (int i = j; i < size(); ++i) zero += (m_body_mask[i] & m_body_mask[j]) == 0;
+  return zero;
 }
 
 void Delassus::form_W_from_T(Eigen::Ref<MatX> W) const {

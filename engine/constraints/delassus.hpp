@@ -29,13 +29,14 @@ class Delassus {
   void build_direct(const RowTable& rows, const std::vector<int>& free_index, const MatX& Y);
   // The same with column i of Y at columns[i] (3 free values; row_column_cache.hpp). With
   // `node_body` (global node -> body), entries between rows on no common body are 0 without
-  // a sum: H couples no two bodies (no element spans two), so Y_j is zero on the bodies
-  // row j does not touch.
+  // a sum: H couples no two bodies (no element spans two; build_model checks it), so Y_j is
+  // zero on the bodies row j does not touch.
   void build_direct(const RowTable& rows, const std::vector<int>& free_index, const std::vector<const double*>& columns,
                     const std::vector<int>* node_body = nullptr);
-  // Entries W_ij (i >= j) the last build_direct summed, and those it knew were 0 (tests).
-  long summed_entries() const { return m_summed; }
-  long zero_entries() const { return m_zero; }
+  // Entries W_ij (i >= j) the last build_direct knew were 0 without a sum, and those it
+  // summed (tests; counted on demand, O(m^2)).
+  long zero_entries() const;
+  long summed_entries() const { return static_cast<long>(size()) * (size() + 1) / 2 - zero_entries(); }
 
   // Whether the last build was build_direct with m rows: after RowColumnCache reports the
   // same columns for the same rows, its W stands as it is.
@@ -70,7 +71,6 @@ class Delassus {
   bool m_dense = false;
   bool m_direct = false;  // built by build_direct
   std::vector<uint64_t> m_body_mask;  // build_direct: per row, bit (body mod 64) of each body it touches
-  long m_summed = 0, m_zero = 0;
   int m_k3 = 0;                       // 3 x touched nodes: T's rows
   std::vector<int> m_begin, m_local;  // rows' stencils in touched-node positions
   std::vector<Vec3> m_jac;

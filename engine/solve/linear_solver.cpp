@@ -182,6 +182,7 @@ void LinearSolver::prepare_block_workspaces(int rows) {
 }
 
 void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X) {
+  if (X.rows() != B.rows() || X.cols() != B.cols()) throw std::logic_error("LinearSolver::solve_many: X is not B's size");
   if (m_use_cholmod) {
     m_solves += B.cols();
     cholmod_factor* L = m_cholmod.factor();

@@ -39,7 +39,8 @@ class LinearSolver {
   // forward pass, and parts of L whose solution is zero in the backward pass) on blocks of
   // ceil(count / 2) columns, at most kSolveBlock, the columns ordered by their first nonzero
   // in the factor's order, read from B and written into X where they are (no copy); a single
-  // column by the tree solve or CHOLMOD.
+  // column by the tree solve or CHOLMOD. X may be B itself (each block reads its columns of
+  // B before writing them), not a view overlapping B's columns otherwise.
   void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X);
   // The same, resizing X.
   void solve_many(const MatX& B, MatX& X) {
