@@ -90,6 +90,8 @@ struct State {
   bool factor_curved = false;        // the last factorisation included curvature
   bool factor_exact = false;         // the solver holds exactly this step's A (solve)
   int factor_age = 0;                // steps since the last factorisation (solve)
+  std::vector<Mat3> factor_rotations;  // per element, the R of the last factorisation's A (solve);
+                                     // cleared where a factorisation must not be reused (world.cpp)
   std::vector<double> stiffness_scale;  // per element: its R Ke R^T's weight in A (0: none) (assemble)
   bool system_assembled = false;     // whether `system` holds this step's A (assemble_system_matrix;
                                      // on hyperelastic steps Newton's last H after solve_newton);

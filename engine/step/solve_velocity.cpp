@@ -14,6 +14,7 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
   assemble_system_matrix(model, state);
   settle_curvature(model, state);
   state.factor_age = 0;
+  state.factor_rotations = state.R;
   // Kept G: columns of an earlier H, corrected for in solve_constraints. Only with CHOLMOD,
   // whose columns are exact for the H they came from; for delassus_reuse steps from the
   // first step that filled it. The per-row columns are exact by contract: always dropped.
@@ -45,11 +46,42 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
   return solver.factorize(state.system);
 }
 
+namespace {
+
+// Rotations this close to the factorisation's leave A equal to the factored matrix up to
+// round-off: R comes from position differences, whose round-off at 10 m from the origin in
+// 0.1 m cells is ~1e-14; the margin of 100 keeps A within ~1e-12 of the factored one.
+constexpr double kUnmovedRotation = 1e-12;
+
+// Whether the factorisation still holds this step's A: A = (1 + h alpha) M + sum_e s_e R_e
+// Ke R_e^T changes only with the rotations (the mass, the weights s_e and the pattern only with
+// h or the sleeping set, whose changes clear factor_rotations), so a body that only translates
+// (a fall before it lands) or lies still keeps it. Not when curvature was factored or is due.
+bool factorisation_still_current(const Model& model, const LinearSolver& solver, State& state) {
+  if (!solver.uses_cholmod() || state.factor_curved || state.factor_rotations.size() != state.R.size()) return false;
+  settle_curvature(model, state);  // a no-op unless rows are pending; a factorisation would do it first
+  if (!state.curvature_blocks.empty() ||
+      std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; }))
+    return false;
+  for (int e = 0; e < model.num_elements; ++e)
+    if (state.stiffness_scale[e] != 0 &&
+        (state.R[e] - state.factor_rotations[e]).cwiseAbs().maxCoeff() > kUnmovedRotation)
+      return false;
+  return true;
+}
+
+}  // namespace
+
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   {
     StageTimer timer(state.profile, Stage::Factorize);
     const bool reuse = state.step_count > 0 && ++state.factor_age < model.solver.refactor_interval;
-    if (reuse) {
+    if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
+      // This step's factorisation would be the one the solver holds: keep it as this step's.
+      state.factor_age = 0;
+      state.factor_exact = true;
+      state.profile.skipped[static_cast<int>(Stage::Factorize)] = "no rotation moved since the last factorisation";
+    } else if (reuse) {
       state.factor_exact = false;
       // PCG keeps no factor: its solves use this step's matrix, so columns of H^-1 solved
       // in an earlier step are stale.

@@ -36,6 +36,7 @@ TEST_CASE("step retry: NaN multipliers inherited from the last step are dropped 
   f.curvature.clear();
   f.curvature_blocks.clear();
   f.factor_age = fresh.model().solver.refactor_interval;
+  f.factor_rotations.clear();
 
   const double t0 = spoiled.state().t;
   REQUIRE(spoiled.step());
