@@ -25,8 +25,9 @@ class TouchedInverse {
   bool stale() const { return m_stale; }
 
   // Adds the free nodes of `nodes` (free indices, any order, repeats allowed) that have no
-  // columns yet; `solve_many(B, X)` must compute X = H^-1 B (X given with B's size, a map
-  // onto kept storage). Returns the columns solved.
+  // columns yet; `solve_many(B, X, rows)` must compute X = H^-1 B (X given with B's size, a
+  // map onto kept storage) at least on `rows` (the touched nodes' DOFs, the only rows G
+  // reads: LinearSolver::solve_many's wanted rows). Returns the columns solved.
   template <typename SolveMany>
   int require(const std::vector<int>& nodes, SolveMany&& solve_many);
 
@@ -45,6 +46,7 @@ class TouchedInverse {
   std::vector<int> m_nodes;  // local index -> free node
   MatX m_G;                  // capacity x capacity (3 DOFs per node); the leading block is valid
   std::vector<int> m_added;
+  std::vector<int> m_rows;   // require's: the DOFs of every touched node, old and added
   ScratchMatrix m_B, m_X;
 };
 
@@ -62,7 +64,11 @@ int TouchedInverse::require(const std::vector<int>& nodes, SolveMany&& solve_man
   Eigen::Map<MatX> B = m_B.view(n, columns), X = m_X.view(n, columns);
   B.setZero();
   for (int k = 0; k < columns; ++k) B(3 * m_added[k / 3] + k % 3, k) = 1.0;
-  solve_many(B, X);
+  m_rows.clear();
+  for (const std::vector<int>* list : {&m_nodes, &m_added})
+    for (const int f : *list)
+      for (int d = 0; d < 3; ++d) m_rows.push_back(3 * f + d);
+  solve_many(B, X, m_rows);
   add_columns(m_added, X);
   return columns;
 }

@@ -181,7 +181,7 @@ void LinearSolver::prepare_block_workspaces(int rows) {
   }
 }
 
-void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X) {
+void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X, const std::vector<int>* wanted_rows) {
   if (X.rows() != B.rows() || X.cols() != B.cols()) throw std::logic_error("LinearSolver::solve_many: X is not B's size");
   if (m_use_cholmod) {
     m_solves += B.cols();
@@ -201,6 +201,11 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
       return;
     }
     if (L->is_super && !m_block_solve.analysed_for(*L)) m_block_solve.analyse(*L);
+    const char* wanted = nullptr;
+    if (L->is_super && wanted_rows) {
+      m_block_solve.mark_wanted(*wanted_rows, m_wanted);
+      wanted = m_wanted.data();
+    }
     prepare_block_workspaces(n);
     const int count = static_cast<int>(B.cols());
     // Supernodal: columns in the order of their first nonzero in the factor's order, so that
@@ -240,7 +245,7 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
             b[j] = B.col(order[first + j]).data();
             x[j] = X.col(order[first + j]).data();
           }
-          m_block_solve.solve(*L, b.data(), x.data(), width, ws.supernodal);
+          m_block_solve.solve(*L, b.data(), x.data(), width, ws.supernodal, wanted);
         }
       });
       return;

@@ -41,7 +41,10 @@ class LinearSolver {
   // in the factor's order, read from B and written into X where they are (no copy); a single
   // column by the tree solve or CHOLMOD. X may be B itself (each block reads its columns of
   // B before writing them), not a view overlapping B's columns otherwise.
-  void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X);
+  // With `wanted_rows` (rows of X, any order), X needs to be right on those rows only: the
+  // supernodal block solves then skip the backward pass below them (X is exact there, bit
+  // for bit as without, and zero on the rows the pass skipped); other paths solve in full.
+  void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X, const std::vector<int>* wanted_rows = nullptr);
   // The same, resizing X.
   void solve_many(const MatX& B, MatX& X) {
     X.resize(B.rows(), B.cols());
@@ -102,6 +105,7 @@ class LinearSolver {
   // (nothing done) otherwise.
   bool tree_solve(const double* b, double* x);
   std::vector<int> m_column_order, m_column_start;  // solve_many's, kept
+  std::vector<char> m_wanted;                        // solve_many's supernode mask, kept
   std::vector<std::unique_ptr<SolveWorkspace>> m_block_workspaces;
   std::unique_ptr<SolveWorkspace> m_single;  // solve(): one column, its buffers kept
   Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper,

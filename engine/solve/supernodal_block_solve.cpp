@@ -79,7 +79,8 @@ void backward(const SupernodeView& s, double* y) {
 }
 
 template <int W>
-void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, char* nonzero, int& visited) {
+void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, char* nonzero, const char* wanted,
+                int& visited) {
   const int nsuper = static_cast<int>(L.nsuper);
   // Forward: L y = P b; a supernode the block has not reached is zero and is skipped.
   for (int s = 0; s < nsuper; ++s)
@@ -88,7 +89,12 @@ void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, cha
   // on every row below s's triangle (ancestors found zero): the block's columns then belong to
   // other parts of the tree, e.g. to other bodies, whose blocks of L are apart. nonzero[s] now
   // says whether z_s may be nonzero.
+  // Unwanted supernodes are skipped: no wanted one is below them (wanted is closed upwards).
   for (int s = nsuper - 1; s >= 0; --s) {
+    if (wanted && !wanted[s]) {
+      nonzero[s] = 0;
+      continue;
+    }
     const SupernodeView view = supernode_view(L, s);
     if (!nonzero[s]) {
       bool reached = false;
@@ -115,6 +121,20 @@ void SupernodalBlockSolve::analyse(const cholmod_factor& L) {
   for (int k = 0; k < m_n; ++k) m_position[perm[k]] = k;
   for (int s = 0; s < static_cast<int>(L.nsuper); ++s)
     for (int k = super[s]; k < super[s + 1]; ++k) m_supernode_of[k] = s;
+  // A supernode's parent holds its first row below the triangle.
+  m_parent.assign(L.nsuper, -1);
+  for (int s = 0; s < static_cast<int>(L.nsuper); ++s) {
+    const SupernodeView view = supernode_view(L, s);
+    if (view.height > view.columns) m_parent[s] = m_supernode_of[view.rows[view.columns]];
+  }
+}
+
+void SupernodalBlockSolve::mark_wanted(const std::vector<int>& rows, std::vector<char>& wanted) const {
+  wanted.assign(m_parent.size(), 0);
+  for (const int row : rows) wanted[m_supernode_of[m_position[row]]] = 1;
+  // Parents come after their children in CHOLMOD's supernode order: one sweep closes the set.
+  for (size_t s = 0; s < m_parent.size(); ++s)
+    if (wanted[s] && m_parent[s] >= 0) wanted[m_parent[s]] = 1;
 }
 
 void SupernodalBlockSolve::prepare(Workspace& ws) const {
@@ -130,7 +150,7 @@ int SupernodalBlockSolve::first_position(const double* column) const {
 }
 
 void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int ldb, double* X, int ldx, int width,
-                                 Workspace& ws) const {
+                                 Workspace& ws, const char* wanted) const {
   if (width < 1 || width > kMaxWidth) throw std::logic_error("SupernodalBlockSolve: width out of range");
   std::array<const double*, kMaxWidth> b{};
   std::array<double*, kMaxWidth> x{};
@@ -138,11 +158,11 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int l
     b[c] = B + static_cast<size_t>(c) * ldb;
     x[c] = X + static_cast<size_t>(c) * ldx;
   }
-  solve(L, b.data(), x.data(), width, ws);
+  solve(L, b.data(), x.data(), width, ws, wanted);
 }
 
 void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b, double* const* x, int width,
-                                 Workspace& ws) const {
+                                 Workspace& ws, const char* wanted) const {
   if (width < 1 || width > kMaxWidth) throw std::logic_error("SupernodalBlockSolve: width out of range");
   const int n = m_n;
   const int* perm = static_cast<const int*>(L.Perm);
@@ -166,12 +186,12 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b
         ws.nonzero[m_supernode_of[k]] = 1;
       }
   }
-  if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
-  else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
-  else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
-  else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
-  else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data(), ws.backward_supernodes);
-  // x = P^T z: zero outside the supernodes the backward pass worked on.
+  if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  // x = P^T z: zero outside the supernodes the backward pass worked on (wanted ones only).
   const int* super = static_cast<const int*>(L.super);
   for (int c = 0; c < width; ++c) std::fill_n(x[c], n, 0.0);
   for (int s = 0; s < static_cast<int>(L.nsuper); ++s)

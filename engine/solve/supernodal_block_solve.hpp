@@ -9,7 +9,10 @@
 // The backward pass skips supernodes whose solution is zero: not reached by the forward pass,
 // and zero on all the rows below their triangle. With several bodies L is block-diagonal
 // (its elimination tree a forest), so a block on one body's nodes works on that body's part
-// of L alone.
+// of L alone. A caller that needs the solution on some rows only (the block of H^-1 on the
+// nodes constraint rows touch, touched_inverse.hpp) passes them as a mask of "wanted"
+// supernodes: those holding the rows and their ancestors, which are all the backward pass
+// reads to find them; the others are skipped, and the solution there is left at zero.
 #include <cholmod.h>
 
 #include <vector>
@@ -34,20 +37,27 @@ class SupernodalBlockSolve {
   void analyse(const cholmod_factor& L);
   bool analysed_for(const cholmod_factor& L) const { return m_factor == &L && m_n == static_cast<int>(L.n); }
   void prepare(Workspace& ws) const;
+  // Marks in `wanted` (one flag per supernode, resized) the supernodes holding `rows` (rows
+  // of A) and their ancestors in the elimination tree: the mask for solve's `wanted`.
+  void mark_wanted(const std::vector<int>& rows, std::vector<char>& wanted) const;
   // The first position, in the factor's order, of a nonzero of `column` (n values); n if none.
   int first_position(const double* column) const;
   // x_c = A^-1 b_c for `width` <= kMaxWidth columns: b[c] and x[c] point to n values each
-  // (the columns may lie anywhere: the caller's own storage, no copy into a block).
-  void solve(const cholmod_factor& L, const double* const* b, double* const* x, int width, Workspace& ws) const;
+  // (the columns may lie anywhere: the caller's own storage, no copy into a block). With
+  // `wanted` (mark_wanted's mask), x is exact on the wanted supernodes' rows, bit for bit as
+  // without it, and zero on the others.
+  void solve(const cholmod_factor& L, const double* const* b, double* const* x, int width, Workspace& ws,
+             const char* wanted = nullptr) const;
   // The same for column-major B and X (leading dimensions ldb and ldx).
   void solve(const cholmod_factor& L, const double* B, int ldb, double* X, int ldx, int width,
-             Workspace& ws) const;
+             Workspace& ws, const char* wanted = nullptr) const;
 
  private:
   const cholmod_factor* m_factor = nullptr;
   int m_n = 0;
   std::vector<int> m_supernode_of;  // per row of L: its supernode
   std::vector<int> m_position;      // per row of A: its row in L (the inverse permutation)
+  std::vector<int> m_parent;        // per supernode: its parent in the elimination tree, or -1
 };
 
 }  // namespace sinew

@@ -186,7 +186,8 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
   }
   if (s.touched_inverse.size() == 0) s.touched_inverse_step = s.step_count;
   approximate = s.touched_inverse.stale();
-  const int solved = s.touched_inverse.require(touched, solve_many);
+  const int solved = s.touched_inverse.require(
+      touched, [&](const auto& B, auto& X, const std::vector<int>& rows) { solver.solve_many(B, X, &rows); });
   s.local_node.resize(model.num_nodes);
   for (int n = 0; n < model.num_nodes; ++n) {
     const int f = model.free_index[n];
