@@ -58,17 +58,28 @@ int supernodes_of_first(const cholmod_factor& L, int n) {
   return count;
 }
 
+// The two grids, their factor and a block solve analysed for it.
+struct GridSolve {
+  explicit GridSolve(int nx) : n(nx * nx * nx), A(two_disconnected_grids(nx)), factor(A) {
+    solve.analyse(factor.L());
+    solve.prepare(ws);
+  }
+  int n;
+  SparseMatrix A;
+  BlockTestFactor factor;
+  SupernodalBlockSolve solve;
+  SupernodalBlockSolve::Workspace ws;
+};
+
 }  // namespace
 
 TEST_CASE("supernodal block solve: columns on one of two disconnected grids skip the other's supernodes") {
-  const int nx = 9, n = nx * nx * nx;
-  const SparseMatrix A = two_disconnected_grids(nx);
-  const BlockTestFactor factor(A);
-  const cholmod_factor& L = factor.L();
-  SupernodalBlockSolve solve;
-  solve.analyse(L);
-  SupernodalBlockSolve::Workspace ws;
-  solve.prepare(ws);
+  GridSolve grids(9);
+  const int n = grids.n;
+  const SparseMatrix& A = grids.A;
+  const cholmod_factor& L = grids.factor.L();
+  SupernodalBlockSolve& solve = grids.solve;
+  SupernodalBlockSolve::Workspace& ws = grids.ws;
   const int first_supernodes = supernodes_of_first(L, n);
   // Each supernode holds unknowns of one grid only (no entry couples them).
   REQUIRE(first_supernodes > 0);
@@ -122,14 +133,9 @@ TEST_CASE("supernodal block solve: columns on one of two disconnected grids skip
 }
 
 TEST_CASE("supernodal block solve: wanted rows come out bit for bit as in a full solve, with fewer supernodes") {
-  const int nx = 9, n = nx * nx * nx;
-  const SparseMatrix A = two_disconnected_grids(nx);
-  const BlockTestFactor factor(A);
-  const cholmod_factor& L = factor.L();
-  SupernodalBlockSolve solve;
-  solve.analyse(L);
-  SupernodalBlockSolve::Workspace ws;
-  solve.prepare(ws);
+  GridSolve grids(9);
+  const int n = grids.n;
+  const cholmod_factor& L = grids.factor.L();
   const int* perm = static_cast<const int*>(L.Perm);
   const int* super = static_cast<const int*>(L.super);
   // Unit columns on a few unknowns of the first grid, wanted on those unknowns (as H^-1 on
@@ -138,16 +144,16 @@ TEST_CASE("supernodal block solve: wanted rows come out bit for bit as in a full
   const int width = static_cast<int>(rows.size());
   MatX B = MatX::Zero(2 * n, width), X_full(2 * n, width), X(2 * n, width);
   for (int c = 0; c < width; ++c) B(rows[c], c) = 1.0;
-  solve.solve(L, B.data(), 2 * n, X_full.data(), 2 * n, width, ws);
-  const int full_supernodes = ws.backward_supernodes;
+  grids.solve.solve(L, B.data(), 2 * n, X_full.data(), 2 * n, width, grids.ws);
+  const int full_supernodes = grids.ws.backward_supernodes;
   std::vector<char> wanted;
-  solve.mark_wanted(rows, wanted);
+  grids.solve.mark_wanted(rows, wanted);
   REQUIRE(wanted.size() == L.nsuper);
-  solve.solve(L, B.data(), 2 * n, X.data(), 2 * n, width, ws, wanted.data());
+  grids.solve.solve(L, B.data(), 2 * n, X.data(), 2 * n, width, grids.ws, wanted.data());
   for (const int r : rows)
     for (int c = 0; c < width; ++c) CHECK(X(r, c) == X_full(r, c));
   // The pass skipped supernodes, and left zero where it did.
-  CHECK(ws.backward_supernodes < full_supernodes);
+  CHECK(grids.ws.backward_supernodes < full_supernodes);
   int skipped_nonzero = 0;
   for (int s = 0; s < static_cast<int>(L.nsuper); ++s)
     for (int k = super[s]; k < super[s + 1]; ++k)
