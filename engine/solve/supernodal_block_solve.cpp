@@ -79,8 +79,8 @@ void backward(const SupernodeView& s, double* y) {
 }
 
 template <int W>
-void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, char* nonzero, const char* wanted,
-                int& visited) {
+void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, const int* parent, char* nonzero,
+                const char* wanted, int& visited) {
   const int nsuper = static_cast<int>(L.nsuper);
   // Forward: L y = P b; a supernode the block has not reached is zero and is skipped.
   for (int s = 0; s < nsuper; ++s)
@@ -95,14 +95,14 @@ void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, cha
       nonzero[s] = 0;
       continue;
     }
-    const SupernodeView view = supernode_view(L, s);
+    // Its rows below the triangle lie in its ancestors, all of them among its parent's rows
+    // or in the parent itself (the elimination tree's row structure): they are zero unless
+    // the parent's solution may be nonzero.
     if (!nonzero[s]) {
-      bool reached = false;
-      for (int r = view.columns; r < view.height && !reached; ++r) reached = nonzero[supernode_of[view.rows[r]]];
-      if (!reached) continue;
+      if (parent[s] < 0 || !nonzero[parent[s]]) continue;
       nonzero[s] = 1;
     }
-    backward<W>(view, y);
+    backward<W>(supernode_view(L, s), y);
     ++visited;
   }
 }
@@ -186,11 +186,11 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b
         ws.nonzero[m_supernode_of[k]] = 1;
       }
   }
-  if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
-  else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
-  else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
-  else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
-  else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
+  else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
   // x = P^T z: zero outside the supernodes the backward pass worked on (wanted ones only).
   const int* super = static_cast<const int*>(L.super);
   for (int c = 0; c < width; ++c) std::fill_n(x[c], n, 0.0);
