@@ -88,7 +88,8 @@ struct State {
   VecX curvature_point;
   bool curvature_pending = false;
   bool factor_curved = false;        // the last factorisation included curvature
-  bool factor_exact = false;         // the solver holds exactly this step's A (solve)
+  bool factor_exact = false;         // the solver holds this step's A (solve): factorised this step, or
+                                     // kept with every rotation within 1e-12 of its own (solve_velocity.cpp)
   int factor_age = 0;                // steps since the last factorisation (solve)
   std::vector<Mat3> factor_rotations;  // per element, the R of the last factorisation's A (solve);
                                      // cleared where a factorisation must not be reused (world.cpp)

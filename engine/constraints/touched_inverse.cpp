@@ -7,6 +7,7 @@ void TouchedInverse::reset(int free_nodes) {
   for (const int f : m_nodes) m_local[f] = -1;
   m_local.resize(free_nodes, -1);
   m_nodes.clear();
+  m_rows.reserve(3 * static_cast<size_t>(free_nodes));  // require's wanted rows: no allocation later
 }
 
 void TouchedInverse::grow(int nodes) {

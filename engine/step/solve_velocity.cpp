@@ -10,11 +10,23 @@ namespace sinew {
 // constraints H = A and this is v* = A^-1 b of eq. 19; with them, the same factorisation
 // serves every SQP iteration of the step (solve_constraints), so a step that keeps its
 // contacts and limits costs one factorisation, not one per iteration.
+namespace {
+
+// Factorises `matrix`; on success records the rotations it was assembled with (A's only
+// dependence on the positions), so that a later step may keep it (solve_velocity).
+bool factorize_recording(LinearSolver& solver, State& state, const SparseMatrix& matrix) {
+  state.factor_rotations.clear();  // a failed factorisation is never kept
+  if (!solver.factorize(matrix)) return false;
+  state.factor_rotations = state.R;  // same size every time: no allocation once warm
+  return true;
+}
+
+}  // namespace
+
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus) {
   assemble_system_matrix(model, state);
   settle_curvature(model, state);
   state.factor_age = 0;
-  state.factor_rotations = state.R;
   // Kept G: columns of an earlier H, corrected for in solve_constraints. Only with CHOLMOD,
   // whose columns are exact for the H they came from; for delassus_reuse steps from the
   // first step that filled it. The per-row columns are exact by contract: always dropped.
@@ -34,8 +46,8 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
       scatter_element_matrix(model, e, K, 1.0, state.sqp_system.valuePtr());
     }
   }
-  if (!state.factor_curved) return solver.factorize(state.system);
-  if (solver.factorize(state.sqp_system)) return true;
+  if (!state.factor_curved) return factorize_recording(solver, state, state.system);
+  if (factorize_recording(solver, state, state.sqp_system)) return true;
   // A + curvature is PSD-plus-PD in exact arithmetic, but curvature blocks many orders above
   // A (large multipliers on nearly repeated singular values) can lose a pivot to round-off:
   // fall back to H = A, which SQP tolerates (it only converges more slowly), and say so.
@@ -43,7 +55,7 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
   state.factor_curved = false;
   state.curvature.clear();
   state.curvature_blocks.clear();
-  return solver.factorize(state.system);
+  return factorize_recording(solver, state, state.system);
 }
 
 namespace {
@@ -77,9 +89,13 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     StageTimer timer(state.profile, Stage::Factorize);
     const bool reuse = state.step_count > 0 && ++state.factor_age < model.solver.refactor_interval;
     if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
-      // This step's factorisation would be the one the solver holds: keep it as this step's.
+      // This step's factorisation would be the one the solver holds: keep it as this step's,
+      // with what was solved with it. A G kept from an earlier factorisation (delassus_reuse)
+      // ages as it would have at a factorisation.
       state.factor_age = 0;
       state.factor_exact = true;
+      if (state.touched_inverse.stale() && state.step_count - state.touched_inverse_step >= model.solver.delassus_reuse)
+        state.touched_inverse.reset(model.num_free);
       state.profile.skipped[static_cast<int>(Stage::Factorize)] = "no rotation moved since the last factorisation";
     } else if (reuse) {
       state.factor_exact = false;

@@ -72,3 +72,63 @@ TEST_CASE("unmoved rotations: a factorisation that must not be reused is not, ro
   REQUIRE(w.step());
   CHECK(factorize_skip(w) == kUnmoved);
 }
+
+TEST_CASE("unmoved rotations: keeping the factorisation changes a fall and landing by round-off only") {
+  // The same cube dropped twice: `kept` runs as shipped, `fresh` forgets its factorisation's
+  // rotations before every step (refactor_interval 1: it factorises at every step). A kept
+  // factor is the matrix a fresh one would be, up to the 1e-12 allowed on the rotations,
+  // so every iteration count must agree and the positions differ by round-off amplified
+  // through the solves (a factor of another A would move them by the solver tolerances,
+  // 1e-5 m and more).
+  const SceneDesc scene = box_scene(0.5, Vec3(0, -kGravity, 0), 0.3, "", 1e6, R"({"sleep_steps": 0})");
+  World kept = make_world(scene), fresh = make_world(scene);
+  int kept_steps = 0;
+  double worst = 0;
+  for (int k = 0; k < 60; ++k) {
+    fresh.mutable_state().factor_rotations.clear();
+    REQUIRE(kept.step());
+    REQUIRE(fresh.step());
+    kept_steps += factorize_skip(kept) == kUnmoved;
+    CHECK(factorize_skip(fresh).empty());
+    for (const char* name : {"sqp", "pgs"}) {
+      const auto& a = kept.profile().iterations;
+      const auto& b = fresh.profile().iterations;
+      CHECK((a.count(name) ? a.at(name) : 0) == (b.count(name) ? b.at(name) : 0));
+    }
+    worst = std::max(worst, (kept.state().x - fresh.state().x).lpNorm<Eigen::Infinity>());
+  }
+  REQUIRE(kept_steps >= 10);  // the fall before the landing
+  CHECK(kept.state().rows.size() > 0);  // and the landing
+  MESSAGE("factorisations kept: " << kept_steps << " of 60 steps; largest position difference " << worst << " m");
+  CHECK(worst <= 1e-9);
+}
+
+TEST_CASE("unmoved rotations: the step after the sleeping set changes factorises") {
+  // A box at rest and another far off falling from 3 m: the first falls asleep while the
+  // second still falls, unrotated. The stages then run on a model without the sleeper's
+  // unknowns, whose matrix the held factorisation is not.
+  char text[2048];
+  std::snprintf(text, sizeof text, R"({"h": %.17g, "solver": {"sleep_steps": 10},
+    "bodies": [
+      {"name": "resting", "shape": [{"type": "box", "half_extents": [0.17, 0.17, 0.17]}],
+       "transform": {"translate": [0, 0.1701, 0]}, "cell_size": 0.1, "material": {"E": 1e6, "nu": 0.3, "rho": 500}},
+      {"name": "falling", "shape": [{"type": "box", "half_extents": [0.17, 0.17, 0.17]}],
+       "transform": {"translate": [3, 3, 0]}, "cell_size": 0.1, "material": {"E": 1e6, "nu": 0.3, "rho": 500}}],
+    "obstacles": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "friction": 0.5}]})",
+                1.0 / 60);
+  World w = make_world(parse_scene_text(text, "sleep", "."));
+  int asleep_before = 0, changes = 0;
+  for (int k = 0; k < 40; ++k) {
+    REQUIRE(w.step());
+    const auto& it = w.profile().iterations;
+    const int asleep = it.count("sleeping_bodies") ? it.at("sleeping_bodies") : 0;
+    if (asleep != asleep_before) {
+      ++changes;
+      CHECK(factorize_skip(w).empty());
+      CHECK(w.profile().work.factorizations == 1);
+    }
+    asleep_before = asleep;
+  }
+  REQUIRE(changes >= 1);  // the resting box fell asleep within the 40 steps
+  CHECK(asleep_before == 1);  // while the other still fell (3 m take about 47 steps)
+}
