@@ -132,3 +132,32 @@ TEST_CASE("unmoved rotations: the step after the sleeping set changes factorises
   REQUIRE(changes >= 1);  // the resting box fell asleep within the 40 steps
   CHECK(asleep_before == 1);  // while the other still fell (3 m take about 47 steps)
 }
+
+TEST_CASE("unmoved rotations: a kept factorisation drops a G kept from an earlier one once it is delassus_reuse old") {
+  // The cube at rest keeps its factorisation step after step. H^-1 on touched nodes kept
+  // across an earlier factorisation (stale, solver.delassus_reuse) is planted by hand: what
+  // a factorisation at this step would do with it, the kept factorisation must do too.
+  World w = make_world(box_scene(0.5, Vec3(0, -kGravity, 0), 1e-3, "", 1e6, R"({"sleep_steps": 0})"));
+  int k = 0;
+  for (; k < 300 && factorize_skip(w) != kUnmoved; ++k) REQUIRE(w.step());
+  REQUIRE(factorize_skip(w) == kUnmoved);  // at rest: the factorisation is kept
+  const auto plant = [&](long age) {
+    State& s = w.mutable_state();
+    s.touched_inverse.reset(w.model().num_free);
+    s.touched_inverse.require(std::vector<int>{0, 1}, [](const auto&, auto& X, const std::vector<int>&) { X.setZero(); });
+    s.touched_inverse.keep_stale();
+    s.touched_inverse_step = s.step_count - age;
+  };
+  const int reuse = w.model().solver.delassus_reuse;
+  plant(reuse);  // as old as it may get: dropped
+  REQUIRE(w.step());
+  REQUIRE(factorize_skip(w) == kUnmoved);
+  // Dropped: what the step solved since is the current factorisation's, not stale.
+  CHECK_FALSE(w.state().touched_inverse.stale());
+  CHECK(w.state().touched_inverse_step == w.state().step_count - 1);
+  plant(reuse - 1);  // younger: kept, still marked stale, its planted nodes first
+  REQUIRE(w.step());
+  REQUIRE(factorize_skip(w) == kUnmoved);
+  CHECK(w.state().touched_inverse.stale());
+  CHECK(w.state().touched_inverse.local(0) == 0);
+}
