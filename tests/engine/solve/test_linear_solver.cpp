@@ -11,30 +11,13 @@
 #include <random>
 
 #include "engine/solve/linear_solver.hpp"
+#include "tests/support/grid_matrices.hpp"
 
 using namespace sinew;
 
 namespace {
 
-// A 3D grid Laplacian plus the identity, nx^3 unknowns: SPD with condition number below
-// 1 + 12 = 13, so solutions are good to a few ulps times that.
-SparseMatrix grid_matrix(int nx) {
-  const int n = nx * nx * nx;
-  const auto index = [nx](int i, int j, int k) { return (k * nx + j) * nx + i; };
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int k = 0; k < nx; ++k)
-    for (int j = 0; j < nx; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int a = index(i, j, k);
-        entries.emplace_back(a, a, 7.0);
-        if (i + 1 < nx) entries.emplace_back(a, index(i + 1, j, k), -1.0), entries.emplace_back(index(i + 1, j, k), a, -1.0);
-        if (j + 1 < nx) entries.emplace_back(a, index(i, j + 1, k), -1.0), entries.emplace_back(index(i, j + 1, k), a, -1.0);
-        if (k + 1 < nx) entries.emplace_back(a, index(i, j, k + 1), -1.0), entries.emplace_back(index(i, j, k + 1), a, -1.0);
-      }
-  SparseMatrix A(n, n);
-  A.setFromTriplets(entries.begin(), entries.end());
-  return A;
-}
+SparseMatrix grid_matrix(int nx) { return test::grid_laplacian(nx); }
 
 MatX random_columns(int rows, int cols) {
   std::mt19937 rng(7);

@@ -9,31 +9,14 @@
 #include "engine/solve/supernodal_block_solve.hpp"
 #include "engine/solve/supernode_view.hpp"
 
+#include "tests/support/grid_matrices.hpp"
+
 using namespace sinew;
 
 namespace {
 
-// Two copies of a 3D grid Laplacian plus 6 I (nx^3 unknowns each, condition number below
-// 13), with no entry between them.
-SparseMatrix two_disconnected_grids(int nx) {
-  const int n = nx * nx * nx;
-  const auto index = [nx](int i, int j, int k) { return (k * nx + j) * nx + i; };
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int copy = 0; copy < 2; ++copy)
-    for (int k = 0; k < nx; ++k)
-      for (int j = 0; j < nx; ++j)
-        for (int i = 0; i < nx; ++i) {
-          const int a = copy * n + index(i, j, k);
-          entries.emplace_back(a, a, 7.0);
-          const auto link = [&](int b) { entries.emplace_back(a, copy * n + b, -1.0), entries.emplace_back(copy * n + b, a, -1.0); };
-          if (i + 1 < nx) link(index(i + 1, j, k));
-          if (j + 1 < nx) link(index(i, j + 1, k));
-          if (k + 1 < nx) link(index(i, j, k + 1));
-        }
-  SparseMatrix A(2 * n, 2 * n);
-  A.setFromTriplets(entries.begin(), entries.end());
-  return A;
-}
+// Two disconnected grids, as two bodies make (grid_matrices.hpp).
+SparseMatrix two_disconnected_grids(int nx) { return test::grid_laplacian(nx, 2); }
 
 struct BlockTestFactor : Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> {
   explicit BlockTestFactor(const SparseMatrix& A) {
