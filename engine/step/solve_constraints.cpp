@@ -417,8 +417,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken
     // when the m dot products cost less than the solve they save (two passes over L): the
     // creature's 96-99 rows of 1950 DOFs against a supernodal factor of 222k entries.
-    const bool one_solve = k > 0 && per_row && shared_solves_on &&
-                           static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
+    const bool columns_cheaper =
+        shared_solves_on && static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
+    const bool one_solve = k > 0 && per_row && columns_cheaper;
     // With an approximate W (a kept G), W lambda_0 costs a solve, and so does the Newton
     // step H^-1 r; the LCP needs only J H^-1 (r + J^T lambda_0) of them, one solve, and
     // v_k+1 = v_k + H^-1 (r + J^T lambda) follows the LCP: two solves per iteration, not three.
@@ -485,6 +486,17 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       if (one_solve || fused) {
         sc.dv = sc.residual + sc.impulse;
         solver.solve(sc.dv, sc.correction);
+      } else if (per_row && columns_cheaper) {
+        // H^-1 J^T lambda = Y lambda from the rows' own columns, no solve (the first QP of
+        // a step; later ones fold it into the Newton step's solve above). Each entry sums the
+        // columns in row order, by one task: the same sums for any thread count.
+        const Eigen::Index n = v_free.size();
+        tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 256), [&](const tbb::blocked_range<Eigen::Index>& range) {
+          const Eigen::Index first = range.begin(), count = range.end() - range.begin();
+          for (int i = 0; i < m; ++i)
+            if (const double lambda = s.rows.lambda[i]; lambda != 0)
+              sc.correction.segment(first, count) += lambda * Eigen::Map<const VecX>(s.row_column_scratch[i] + first, count);
+        });
       } else {
         solver.solve(sc.impulse, sc.correction);
       }

@@ -1,6 +1,7 @@
 // solver.sqp_solves (solve_constraints.cpp): where W came from the rows' own columns
 // Y = H^-1 J^T, SQP iterations after the first take J H^-1 r = Y^T r and one solve,
-// v_k+1 = v_k + H^-1 (r + J^T lambda), instead of the Newton step and the correction apart;
+// v_k+1 = v_k + H^-1 (r + J^T lambda), instead of the Newton step and the correction apart,
+// and the first QP's correction H^-1 J^T lambda = Y lambda takes no solve;
 // where W came from a kept G (delassus_reuse), the W lambda_0 correction and the Newton step
 // share one solve, J H^-1 (r + J^T lambda_0), before that update. The same iterates in exact
 // arithmetic: two worlds in lockstep, the second taking the first's state before every
