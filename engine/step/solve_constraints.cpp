@@ -489,14 +489,16 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       } else if (per_row && columns_cheaper) {
         // H^-1 J^T lambda = Y lambda from the rows' own columns, no solve (the first QP of
         // a step; later ones fold it into the Newton step's solve above). Each entry sums the
-        // columns in row order, by one task: the same sums for any thread count.
+        // columns in row order, by one task, in chunks that depend on n alone (the simple
+        // partitioner): the same sums, and the same vectorised and scalar parts, for any
+        // thread count.
         const Eigen::Index n = v_free.size();
         tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 256), [&](const tbb::blocked_range<Eigen::Index>& range) {
           const Eigen::Index first = range.begin(), count = range.end() - range.begin();
           for (int i = 0; i < m; ++i)
             if (const double lambda = s.rows.lambda[i]; lambda != 0)
               sc.correction.segment(first, count) += lambda * Eigen::Map<const VecX>(s.row_column_scratch[i] + first, count);
-        });
+        }, tbb::simple_partitioner());
       } else {
         solver.solve(sc.impulse, sc.correction);
       }

@@ -1,7 +1,7 @@
 #pragma once
-// Test matrices of the solver tests: `copies` disconnected copies of a 3D grid Laplacian plus
-// 6 I (nx^3 unknowns each, 7 on the diagonal, -1 to each grid neighbour), no entry between
-// copies. SPD with condition number below 1 + 12 = 13, so solutions are good to a few ulps
+// Test matrices of the solver tests: `copies` disconnected copies of 7 I minus a 3D grid's
+// adjacency (nx^3 unknowns each, -1 to each grid neighbour: the grid Laplacian plus
+// (7 - degree) I), no entry between copies. SPD with condition number below 1 + 12 = 13, so solutions are good to a few ulps
 // times that. Several copies stand for several bodies: L is block-diagonal.
 #include <vector>
 

@@ -48,7 +48,8 @@ Lockstep run_lockstep(SceneDesc scene, int steps, bool skip_line_searches) {
     ++out.compared;
     if (count(separate, "sqp") == count(shared, "sqp")) {
       ++out.same_iterations;
-      // Each QP after the first saves one solve on both paths, and costs none.
+      // Each QP saves one solve on the shared path (the first by Y lambda, later ones by
+      // folding the Newton step into the correction's solve), and costs none.
       CHECK(shared.profile().work.solves <= separate.profile().work.solves);
       out.separate_solves += separate.profile().work.solves;
       out.shared_solves += shared.profile().work.solves;

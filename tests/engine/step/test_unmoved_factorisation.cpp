@@ -149,15 +149,23 @@ TEST_CASE("unmoved rotations: a kept factorisation drops a G kept from an earlie
     s.touched_inverse_step = s.step_count - age;
   };
   const int reuse = w.model().solver.delassus_reuse;
+  // What each step did with G: it used G (the rows' H^-1 came from touched nodes), and no
+  // stalled SQP recomputed it (which would drop it whatever its age).
+  const auto used_g_without_refresh = [&] {
+    CHECK(w.state().touched_inverse.size() > 0);
+    CHECK(w.profile().iterations.count("delassus_refreshes") == 0);
+  };
   plant(reuse);  // as old as it may get: dropped
   REQUIRE(w.step());
   REQUIRE(factorize_skip(w) == kUnmoved);
+  used_g_without_refresh();
   // Dropped: what the step solved since is the current factorisation's, not stale.
   CHECK_FALSE(w.state().touched_inverse.stale());
   CHECK(w.state().touched_inverse_step == w.state().step_count - 1);
   plant(reuse - 1);  // younger: kept, still marked stale, its planted nodes first
   REQUIRE(w.step());
   REQUIRE(factorize_skip(w) == kUnmoved);
+  used_g_without_refresh();
   CHECK(w.state().touched_inverse.stale());
   CHECK(w.state().touched_inverse.local(0) == 0);
 }
