@@ -7,11 +7,11 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <cstdlib>
 
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/stats_summary.hpp"
 #include "engine/simulate_frame.hpp"
+#include "tools/cli_options.hpp"
 
 using namespace sinew;
 
@@ -56,23 +56,24 @@ Outcome run(double Umax, const std::string& jacobian, int frames) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc > 1 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
-    std::puts("usage: sinew_bench_jacobian [FRAMES] [OUT]\n"
-              "Paper 000's exact vs warped energy-limit Jacobians on the fig. 3 beam (E 150 kPa) for\n"
-              "Umax 0.5, 0.1, 0.05, 0.01 J, bodies never sleeping: SQP and PGS iterations, steps at the\n"
-              "SQP cap, worst violation, constraint-stage time. Prints a Markdown table, writes JSON.\n"
-              "  FRAMES  frames to simulate per run (default 120)\n"
-              "  OUT     JSON results (default bench_jacobian.json)");
-    return 0;
-  }
-  char* end = nullptr;
-  const long frames_arg = argc > 1 ? std::strtol(argv[1], &end, 10) : 120;
-  if (argc > 1 && (*end != '\0' || frames_arg <= 0 || frames_arg > 100000)) {
-    std::fprintf(stderr, "sinew_bench_jacobian: FRAMES must be a whole number in [1, 100000], got '%s' (--help)\n", argv[1]);
+  cli::Options options("sinew_bench_jacobian [FRAMES] [OUT]",
+                       "Paper 000's exact vs warped energy-limit Jacobians on the fig. 3 beam (E 150 kPa) for\n"
+                       "Umax 0.5, 0.1, 0.05, 0.01 J, bodies never sleeping: SQP and PGS iterations, steps at the\n"
+                       "SQP cap, worst violation, constraint-stage time. Prints a Markdown table, writes JSON.\n"
+                       "FRAMES: frames to simulate per run (default 120); OUT: JSON results (default\n"
+                       "bench_jacobian.json).",
+                       {}, 0, 2);
+  int frames = 120;
+  std::string out = "bench_jacobian.json";
+  try {
+    if (!options.parse(argc - 1, argv + 1)) return 0;
+    const std::vector<std::string>& args = options.positional();
+    if (!args.empty()) frames = cli::parse_int(args[0], "FRAMES", 1);
+    if (args.size() > 1) out = args[1];
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "sinew_bench_jacobian: %s\n", e.what());
     return 2;
   }
-  const int frames = static_cast<int>(frames_arg);
-  const std::string out = argc > 2 ? argv[2] : "bench_jacobian.json";
   nlohmann::json results = nlohmann::json::array();
   std::ostringstream table;
   table << "| Umax (J) | Jacobian | SQP iterations | PGS iterations | steps at SQP cap | worst Ue/Umax-1 | constraint stage total (ms) | median per step (ms) |\n"

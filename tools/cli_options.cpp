@@ -1,5 +1,6 @@
 #include "tools/cli_options.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -7,9 +8,18 @@
 
 namespace sinew::cli {
 
-Options::Options(std::string usage, std::string summary, std::vector<OptionSpec> specs, int positional)
+int parse_int(const std::string& text, const std::string& what, int min_value) {
+  int value = 0;
+  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || ptr != text.data() + text.size() || value < min_value)
+    throw UsageError(what + " expects an integer >= " + std::to_string(min_value) + ", got '" + text + "'");
+  return value;
+}
+
+Options::Options(std::string usage, std::string summary, std::vector<OptionSpec> specs, int positional,
+                 int max_positional)
     : m_usage(std::move(usage)), m_summary(std::move(summary)), m_specs(std::move(specs)),
-      m_positional_count(positional) {}
+      m_positional_count(positional), m_max_positional(std::max(positional, max_positional)) {}
 
 std::string Options::help() const {
   std::ostringstream out;
@@ -50,9 +60,11 @@ bool Options::parse(int argc, char** argv) {
       throw UsageError("option " + name + " takes no value");
     m_values[name] = value;
   }
-  if (static_cast<int>(m_positional.size()) != m_positional_count)
-    throw UsageError("expected " + std::to_string(m_positional_count) + " argument(s), got " +
-                     std::to_string(m_positional.size()) + "\nusage: " + m_usage);
+  const int count = static_cast<int>(m_positional.size());
+  if (count < m_positional_count || count > m_max_positional)
+    throw UsageError("expected " + std::to_string(m_positional_count) +
+                     (m_max_positional > m_positional_count ? " to " + std::to_string(m_max_positional) : "") +
+                     " argument(s), got " + std::to_string(count) + "\nusage: " + m_usage);
   return true;
 }
 
@@ -62,14 +74,7 @@ std::string Options::get(const std::string& name, const std::string& fallback) c
 }
 
 int Options::get_int(const std::string& name, int fallback, int min_value) const {
-  if (!has(name)) return fallback;
-  const std::string text = get(name);
-  int value = 0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc() || ptr != text.data() + text.size() || value < min_value)
-    throw UsageError("option " + name + " expects an integer >= " + std::to_string(min_value) +
-                     ", got '" + text + "'");
-  return value;
+  return has(name) ? parse_int(get(name), "option " + name, min_value) : fallback;
 }
 
 double Options::get_double(const std::string& name, double fallback, double min_exclusive) const {

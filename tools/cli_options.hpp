@@ -19,9 +19,15 @@ struct UsageError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// `text` as an integer of at least `min_value`; else UsageError naming `what`.
+int parse_int(const std::string& text, const std::string& what, int min_value);
+
 class Options {
  public:
-  Options(std::string usage, std::string summary, std::vector<OptionSpec> specs, int positional);
+  // `positional` arguments, or from `positional` to `max_positional` of them when that is
+  // larger (optional trailing arguments).
+  Options(std::string usage, std::string summary, std::vector<OptionSpec> specs, int positional,
+          int max_positional = -1);
   // Throws UsageError; returns false if --help was given (help already printed).
   bool parse(int argc, char** argv);
   std::string help() const;
@@ -35,7 +41,7 @@ class Options {
  private:
   std::string m_usage, m_summary;
   std::vector<OptionSpec> m_specs;
-  int m_positional_count;
+  int m_positional_count, m_max_positional;
   std::map<std::string, std::string> m_values;
   std::vector<std::string> m_positional;
 };

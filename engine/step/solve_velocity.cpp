@@ -5,11 +5,6 @@
 
 namespace sinew {
 
-// Factorises H = A + (the constraints' curvature from the previous step, if any) and takes
-// one Newton step from the previous velocities: v = v0 + H^-1 (b - A v0). Without
-// constraints H = A and this is v* = A^-1 b of eq. 19; with them, the same factorisation
-// serves every SQP iteration of the step (solve_constraints), so a step that keeps its
-// contacts and limits costs one factorisation, not one per iteration.
 namespace {
 
 // Factorises `matrix`; on success records the rotations it was assembled with (A's only
@@ -21,8 +16,45 @@ bool factorize_recording(LinearSolver& solver, State& state, const SparseMatrix&
   return true;
 }
 
+// Whether the settled curvature adds anything to A.
+bool has_curvature(const State& state) {
+  return !state.curvature_blocks.empty() ||
+         std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
+}
+
+// Whether H^-1 kept on the touched nodes (solver.delassus_reuse) may serve one more
+// factorisation: it is counted from the step that first filled it.
+bool touched_inverse_young(const Model& model, const State& state) {
+  return state.step_count - state.touched_inverse_step < model.solver.delassus_reuse;
+}
+
+// Rotations this close to the factorisation's leave A equal to the factored matrix up to
+// round-off: R comes from position differences, whose round-off at 10 m from the origin in
+// 0.1 m cells is ~1e-14; the margin of 100 keeps A within ~1e-12 of the factored one.
+constexpr double kUnmovedRotation = 1e-12;
+
+// Whether the factorisation still holds this step's A: A = (1 + h alpha) M + sum_e s_e R_e
+// Ke R_e^T changes only with the rotations (the mass, the weights s_e and the pattern only with
+// h or the sleeping set, whose changes clear factor_rotations), so a body that only translates
+// (a fall before it lands) or lies still keeps it. Not when curvature was factored or is due.
+bool factorisation_still_current(const Model& model, const LinearSolver& solver, State& state) {
+  if (!solver.uses_cholmod() || state.factor_curved || state.factor_rotations.size() != state.R.size()) return false;
+  settle_curvature(model, state);  // a no-op unless rows are pending; a factorisation would do it first
+  if (has_curvature(state)) return false;
+  for (int e = 0; e < model.num_elements; ++e)
+    if (state.stiffness_scale[e] != 0 &&
+        (state.R[e] - state.factor_rotations[e]).cwiseAbs().maxCoeff() > kUnmovedRotation)
+      return false;
+  return true;
+}
+
 }  // namespace
 
+// Factorises H = A + (the constraints' curvature from the previous step, if any) and takes
+// one Newton step from the previous velocities: v = v0 + H^-1 (b - A v0). Without
+// constraints H = A and this is v* = A^-1 b of eq. 19; with them, the same factorisation
+// serves every SQP iteration of the step (solve_constraints), so a step that keeps its
+// contacts and limits costs one factorisation, not one per iteration.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus) {
   assemble_system_matrix(model, state);
   settle_curvature(model, state);
@@ -31,12 +63,11 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
   // whose columns are exact for the H they came from; for delassus_reuse steps from the
   // first step that filled it. The per-row columns are exact by contract: always dropped.
   const bool keep = may_keep_delassus && solver.uses_cholmod() && state.touched_inverse.size() > 0 &&
-                    state.step_count - state.touched_inverse_step < model.solver.delassus_reuse;
+                    touched_inverse_young(model, state);
   if (keep) state.touched_inverse.keep_stale();
   else state.touched_inverse.reset(model.num_free);
   state.row_columns.reset();
-  state.factor_curved = !state.curvature_blocks.empty() ||
-                        std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
+  state.factor_curved = has_curvature(state);
   if (state.factor_curved) {
     state.sqp_system = state.system;
     scatter_warped_stiffness(model, state.R, state.curvature, state.sqp_system.valuePtr());
@@ -58,32 +89,6 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
   return factorize_recording(solver, state, state.system);
 }
 
-namespace {
-
-// Rotations this close to the factorisation's leave A equal to the factored matrix up to
-// round-off: R comes from position differences, whose round-off at 10 m from the origin in
-// 0.1 m cells is ~1e-14; the margin of 100 keeps A within ~1e-12 of the factored one.
-constexpr double kUnmovedRotation = 1e-12;
-
-// Whether the factorisation still holds this step's A: A = (1 + h alpha) M + sum_e s_e R_e
-// Ke R_e^T changes only with the rotations (the mass, the weights s_e and the pattern only with
-// h or the sleeping set, whose changes clear factor_rotations), so a body that only translates
-// (a fall before it lands) or lies still keeps it. Not when curvature was factored or is due.
-bool factorisation_still_current(const Model& model, const LinearSolver& solver, State& state) {
-  if (!solver.uses_cholmod() || state.factor_curved || state.factor_rotations.size() != state.R.size()) return false;
-  settle_curvature(model, state);  // a no-op unless rows are pending; a factorisation would do it first
-  if (!state.curvature_blocks.empty() ||
-      std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; }))
-    return false;
-  for (int e = 0; e < model.num_elements; ++e)
-    if (state.stiffness_scale[e] != 0 &&
-        (state.R[e] - state.factor_rotations[e]).cwiseAbs().maxCoeff() > kUnmovedRotation)
-      return false;
-  return true;
-}
-
-}  // namespace
-
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   {
     StageTimer timer(state.profile, Stage::Factorize);
@@ -94,8 +99,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
       // ages as it would have at a factorisation.
       state.factor_age = 0;
       state.factor_exact = true;
-      if (state.touched_inverse.stale() && state.step_count - state.touched_inverse_step >= model.solver.delassus_reuse)
-        state.touched_inverse.reset(model.num_free);
+      if (state.touched_inverse.stale() && !touched_inverse_young(model, state)) state.touched_inverse.reset(model.num_free);
       state.profile.skipped[static_cast<int>(Stage::Factorize)] = "no rotation moved since the last factorisation";
     } else if (reuse) {
       state.factor_exact = false;
