@@ -42,30 +42,50 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
   m_diagonal.resize(m);  // size() from here on
   m_direct = false;
   const auto G = inverse.block();
-  Eigen::Map<MatX> T = this->T();
-  // Column i of T and W_ii from row i alone: columns in parallel, each summed in the same
-  // order whatever the thread count. 24 x 3k flops per row, rebuilt at every SQP iteration
-  // (the rows' Jacobians move): in parallel, the pressed finger's sqp_solve fell from 12.2
-  // to 10.2-10.8 ms on 2 threads.
+  m_G_data = G.data();
+  m_G_stride = G.outerStride();
+  m_dense = m <= m_k3;
+  m_column_built.assign(m, 0);
+  T();  // T's storage sized before the tasks write into it
+  // W_ii from G's blocks on row i's stencil (16 3 x 3 blocks for a tet's 4 nodes), not from
+  // T's column: a factored W needs T's column of a row only once its multiplier moves, and
+  // most rows near a limit never carry force (the pressed finger: 160 of 520). The columns
+  // of rows that start with a multiplier (the warm start) are built here, in parallel,
+  // each summed in the same order whatever the thread count; the others when PGS first
+  // changes their multiplier (changed, column). A dense W needs every column, and takes
+  // its diagonal from W itself.
   tbb::parallel_for(tbb::blocked_range<int>(0, m, 32), [&](const tbb::blocked_range<int>& range) {
     for (int i = range.begin(); i < range.end(); ++i) {
-      auto column = T.col(i);
-      column.setZero();
-      for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) {
-        const int a = 3 * m_local[e];
-        const Vec3& j = m_jac[e];
-        column += G.col(a) * j[0] + G.col(a + 1) * j[1] + G.col(a + 2) * j[2];
-      }
       double d = 0;
-      for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) d += m_jac[e].dot(column.segment<3>(3 * m_local[e]));
+      for (int e = m_begin[i]; e < m_begin[i + 1]; ++e)
+        for (int f = m_begin[i]; f < m_begin[i + 1]; ++f)
+          d += m_jac[e].dot(G.block<3, 3>(3 * m_local[e], 3 * m_local[f]) * m_jac[f]);
       m_diagonal[i] = d;
+      if (m_dense || rows.lambda[i] != 0) build_column(i);
     }
   });
-  m_dense = false;
-  if (m <= m_k3) {
-    form_W_from_T(W());
-    m_dense = true;
+  if (!m_dense) return;
+  form_W_from_T(W());
+  for (int i = 0; i < m; ++i) m_diagonal[i] = W()(i, i);
+}
+
+// Column i of T = G Jc^T from row i alone: 24 x 3k flops, rebuilt at every SQP iteration
+// (the rows' Jacobians move).
+void Delassus::build_column(int i) const {
+  const Eigen::Map<const MatX, 0, Eigen::OuterStride<>> G(m_G_data, m_k3, m_k3, Eigen::OuterStride<>(m_G_stride));
+  auto column = T().col(i);
+  column.setZero();
+  for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) {
+    const int a = 3 * m_local[e];
+    const Vec3& j = m_jac[e];
+    column += G.col(a) * j[0] + G.col(a + 1) * j[1] + G.col(a + 2) * j[2];
   }
+  m_column_built[i] = 1;
+}
+
+const double* Delassus::column(int i) const {
+  if (!m_column_built[i]) build_column(i);
+  return T().col(i).data();
 }
 
 void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_index, const MatX& Y) {
@@ -128,7 +148,7 @@ void Delassus::multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> o
     return;
   }
   Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
-  u.noalias() = T() * lambda;
+  factored_product(lambda, u);
   for (int i = 0; i < size(); ++i) {
     double s = 0;
     for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(u.segment<3>(3 * m_local[e]));
@@ -146,14 +166,14 @@ void Delassus::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<cons
   out.setZero();
   Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
   u.setZero();
-  const Eigen::Map<MatX> T = this->T();
-  for (int b = 0; b < n; ++b) u.noalias() += T.col(rows[b]) * x[b];
+  for (int b = 0; b < n; ++b) u.noalias() += Eigen::Map<const VecX>(column(rows[b]), m_k3) * x[b];
   for (int a = 0; a < n; ++a)
     for (int e = m_begin[rows[a]]; e < m_begin[rows[a] + 1]; ++e) out[a] += m_jac[e].dot(u.segment<3>(3 * m_local[e]));
 }
 
 MatX Delassus::matrix() const {
   if (m_dense) return W();
+  for (int i = 0; i < size(); ++i) column(i);
   MatX W(size(), size());
   form_W_from_T(W);
   return W;
@@ -167,11 +187,19 @@ void Delassus::start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<cons
     product.noalias() = W() * lambda;
     state() = product + c;
   } else {
-    state().noalias() = T() * lambda;
+    Eigen::Map<VecX> u = state();
+    factored_product(lambda, u);
   }
   m_c_data = this->c().data();
   m_state_data = state().data();
   m_columns_data = m_dense ? W().data() : T().data();
+}
+
+void Delassus::factored_product(const Eigen::Ref<const VecX>& lambda, Eigen::Map<VecX>& u) const {
+  // Over the columns with a multiplier only: the others may not be built.
+  u.setZero();
+  for (int i = 0; i < size(); ++i)
+    if (lambda[i] != 0) u.noalias() += Eigen::Map<const VecX>(column(i), m_k3) * lambda[i];
 }
 
 double Delassus::w(int i) const {
@@ -184,6 +212,7 @@ double Delassus::w(int i) const {
 
 void Delassus::changed(int i, double delta) {
   // W symmetric: column i = row i.
+  if (!m_dense && !m_column_built[i]) build_column(i);
   const int n = m_dense ? size() : m_k3;
   Eigen::Map<VecX>(m_state_data, n).noalias() +=
       Eigen::Map<const VecX>(m_columns_data + static_cast<std::size_t>(i) * n, n) * delta;

@@ -6,9 +6,11 @@
 // - dense (m <= 3k): W formed once (m^2 x stencil), w kept and updated by a column of W (m);
 // - factored (m > 3k, e.g. strain limits: up to 18 rows per tet on 3 DOFs per node):
 //   u = T lambda kept (3k), w_i = c_i + Jc_i u over the row's stencil, update by a column
-//   of T (3k). No m x m matrix at all.
+//   of T (3k). No m x m matrix at all, and a column of T only for the rows whose multiplier
+//   is or becomes non-zero (W_ii from G's blocks on the stencil).
 // Or, when the rows touch so many nodes not solved yet that one solve per row is cheaper
 // (hex energy rows span 8 nodes, embedded contacts too), directly from Y = H^-1 J^T.
+#include <algorithm>
 #include <vector>
 
 #include "engine/constraints/row_table.hpp"
@@ -43,6 +45,9 @@ class Delassus {
   bool built_direct(int m) const { return m_direct && size() == m; }
 
   int size() const { return static_cast<int>(m_diagonal.size()); }
+  // Columns of T built so far (factored form: those of rows with a multiplier at build(),
+  // then each row's at its first change; tests).
+  int built_columns() const { return static_cast<int>(std::count(m_column_built.begin(), m_column_built.end(), 1)); }
   bool dense() const { return m_dense; }
   double diagonal(int i) const { return m_diagonal[i]; }
   // The interface of solve_pgs: start from lambda; w_i for the current lambda; lambda_i
@@ -67,6 +72,11 @@ class Delassus {
   Eigen::Map<VecX> state() const { return m_state_storage.vector(m_dense ? size() : m_k3); }
   // W = Jc T: entry (i, j), i >= j, over row i's stencil and column j of T; then mirrored.
   void form_W_from_T(Eigen::Ref<MatX> W) const;
+  // Factored form: column i of T, built on first use (build_column).
+  void build_column(int i) const;
+  const double* column(int i) const;
+  // u = T lambda over the columns whose multiplier is not 0.
+  void factored_product(const Eigen::Ref<const VecX>& lambda, Eigen::Map<VecX>& u) const;
 
   bool m_dense = false;
   bool m_direct = false;  // built by build_direct
@@ -74,7 +84,10 @@ class Delassus {
   int m_k3 = 0;                       // 3 x touched nodes: T's rows
   std::vector<int> m_begin, m_local;  // rows' stencils in touched-node positions
   std::vector<Vec3> m_jac;
-  mutable ScratchMatrix m_T_storage;  // 3k x m: G Jc^T
+  mutable ScratchMatrix m_T_storage;  // 3k x m: G Jc^T, in the factored form only the columns built
+  mutable std::vector<char> m_column_built;  // per row: its column of T is current
+  const double* m_G_data = nullptr;          // G of the last build (touched_inverse.hpp), column-major
+  Eigen::Index m_G_stride = 0;
   mutable ScratchMatrix m_W_storage;  // dense form only
   std::vector<double> m_diagonal;
   std::vector<const double*> m_columns;  // build_direct from a MatX

@@ -175,6 +175,49 @@ TEST_CASE("PGS through the factored Delassus operator matches PGS on the dense m
   for (int i = 0; i < c.size(); ++i) CHECK(p.rows.lambda[i] == doctest::Approx(dense_rows.lambda[i]).epsilon(1e-8));
 }
 
+TEST_CASE("factored Delassus: T's columns are built for the rows with a multiplier, the rest on first change") {
+  std::mt19937 rng(12);
+  Problem p = random_problem(6, 40, rng);  // 40 rows on 15 DOFs: the factored form
+  const Eigen::LLT<MatX> llt(p.H);
+  const MatX J = jacobian(p);
+  const MatX expected = J * llt.solve(J.transpose());
+  std::vector<int> local_node;
+  const TouchedInverse inverse = touched_inverse(p, llt, local_node);
+  std::normal_distribution<double> normal;
+  VecX lambda = VecX::Zero(p.rows.size()), c(p.rows.size());
+  for (int i = 0; i < c.size(); ++i) c[i] = normal(rng);
+  for (int i = 0; i < c.size(); i += 4) lambda[i] = std::abs(normal(rng));  // a warm start on every fourth row
+  Delassus cold, warm;
+  cold.build(p.rows, local_node, inverse);  // rows.lambda all 0
+  for (int i = 0; i < c.size(); ++i) p.rows.lambda[i] = lambda[i];
+  warm.build(p.rows, local_node, inverse);
+  REQUIRE_FALSE(warm.dense());
+  CHECK(cold.built_columns() == 0);
+  CHECK(warm.built_columns() == 10);
+  for (int i = 0; i < c.size(); ++i) {
+    CHECK(warm.diagonal(i) == cold.diagonal(i));
+    CHECK(warm.diagonal(i) == doctest::Approx(expected(i, i)).epsilon(1e-12));
+  }
+  // The same w whichever columns were built first, and right.
+  cold.start(lambda, c);
+  warm.start(lambda, c);
+  CHECK(cold.built_columns() == 10);  // start() needs the columns with a multiplier only
+  cold.changed(1, 0.5);
+  warm.changed(1, 0.5);
+  lambda[1] += 0.5;
+  CHECK(warm.built_columns() == 11);
+  const VecX w = expected * lambda + c;
+  for (int i = 0; i < c.size(); ++i) {
+    CHECK(warm.w(i) == cold.w(i));
+    CHECK(warm.w(i) == doctest::Approx(w[i]).epsilon(1e-10));
+  }
+  VecX product(c.size());
+  warm.multiply(lambda, product);
+  CHECK((product - expected * lambda).norm() < 1e-12 * expected.norm() * lambda.norm());
+  CHECK((warm.matrix() - expected).norm() < 1e-12 * expected.norm());
+  CHECK(warm.built_columns() == c.size());  // matrix() needs them all
+}
+
 // Redundant rows (each row three times): the multipliers are not unique, and PGS's stop on
 // the natural residual (the constraints) must still be reached and mean what it says.
 TEST_CASE("PGS on redundant rows stops on the residual and meets it") {
