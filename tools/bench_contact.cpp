@@ -21,6 +21,7 @@
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/model.hpp"
+#include "tools/cli_options.hpp"
 
 using namespace sinew;
 
@@ -160,28 +161,34 @@ nlohmann::json bench_case(const std::string& name, const Model& model, int repea
 }  // namespace
 
 int main(int argc, char** argv) {
+  cli::Options options(
+      "sinew_bench_contact [OPTION...]",
+      "Times the collision stage (broad phase, distance queries, contact rows) of paper 000's\n"
+      "armadillo (../shared/meshes/armadillo.obj): on a plane (cell broad phase vs every vertex),\n"
+      "on a triangle-mesh slab (Embree BVH vs every triangle), and two armadillos in contact on a\n"
+      "plane (brute force: every vertex against every triangle of the other surface, only with\n"
+      "--brute-force-bodies). Medians over repeats; JSON out. Cases without the mesh are skipped.",
+      {{"--repeats", "N", "timed repeats per case (default 50; brute force on the plane:\n"
+                          "                          max(3, N/10), elsewhere 1)"},
+       {"--threads", "T", "worker threads (default: all cores)"},
+       {"--grid", "N", "the slab's top face: N x N quads, 2 N^2 triangles (default 64)"},
+       {"--brute-force-bodies", "", "also time the two armadillos by brute force (about 3 minutes\n"
+                                    "                          on 2 cores)"},
+       {"--out", "FILE", "JSON results (default bench_contact.json)"}},
+      0);
   std::string out = "bench_contact.json";
-  int repeats = 50, threads = 0, grid = 64;
+  int repeats = 50, threads = 0, grid = 64;  // threads 0: all cores
   bool brute_bodies = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) { std::fprintf(stderr, "%s expects a value\n", arg.c_str()); std::exit(2); }
-      return argv[++i];
-    };
-    if (arg == "--out") out = next();
-    else if (arg == "--repeats") repeats = std::stoi(next());
-    else if (arg == "--threads") threads = std::stoi(next());
-    else if (arg == "--grid") grid = std::stoi(next());
-    else if (arg == "--brute-force-bodies") brute_bodies = true;
-    else {
-      std::printf("usage: sinew_bench_contact [--repeats N] [--threads T] [--grid N] [--brute-force-bodies] [--out FILE]\n"
-                  "cases: armadillo on a plane (cell broad phase vs every vertex), armadillo on a\n"
-                  "triangle-mesh slab with an N x N top grid (Embree BVH vs every triangle), two\n"
-                  "armadillos in contact on a plane (brute force: every vertex against every triangle\n"
-                  "of the other surface: about 3 minutes on 2 cores, only with --brute-force-bodies)\n");
-      return arg == "--help" ? 0 : 2;
-    }
+  try {
+    if (!options.parse(argc - 1, argv + 1)) return 0;
+    repeats = options.get_int("--repeats", repeats, 1);
+    threads = options.get_int("--threads", threads, 1);
+    grid = options.get_int("--grid", grid, 1);
+    brute_bodies = options.has("--brute-force-bodies");
+    out = options.get("--out", out);
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "sinew_bench_contact: %s\n", e.what());
+    return 2;
   }
   std::unique_ptr<tbb::global_control> limit;
   if (threads > 0) limit = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism, threads);

@@ -25,6 +25,7 @@
 #include "engine/io/atomic_file.hpp"
 #include "engine/io/stats_summary.hpp"
 #include "engine/world.hpp"
+#include "tools/cli_options.hpp"
 
 using namespace sinew;
 
@@ -85,6 +86,16 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
   return s;
 }
 
+// The value of option `name`, which must be one of `allowed`; "" when not given.
+std::string one_of(const cli::Options& options, const std::string& name, const std::vector<std::string>& allowed) {
+  if (!options.has(name)) return "";
+  const std::string value = options.get(name);
+  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return value;
+  std::string expected;
+  for (const std::string& a : allowed) expected += (expected.empty() ? "" : " or ") + a;
+  throw cli::UsageError("option " + name + " expects " + expected + ", got '" + value + "'");
+}
+
 double median(std::vector<double> v) { return v.empty() ? 0.0 : quantile(v, 0.5); }
 double mean(const std::vector<double>& v) {
   double sum = 0;
@@ -95,37 +106,44 @@ double mean(const std::vector<double>& v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int warmup = 5, steps = 60, delassus_reuse = SolverDesc{}.delassus_reuse,
-      refactor_interval = SolverDesc{}.refactor_interval;
+  const SolverDesc defaults;
+  cli::Options options(
+      "sinew_bench_hyperelastic [OPTION...]",
+      "Paper 003's Stable Neo-Hookean drops of bunny_5 and cube_20 (../shared/meshes/tet/) onto a\n"
+      "ground plane: time per step with one Newton iteration and with Newton converged to 1e-6,\n"
+      "on 1 and 2 threads; Newton and linear iterations per step. Each run starts the drop afresh;\n"
+      "medians; JSON out. A mesh whose files are absent is skipped.",
+      {{"--steps", "N", "timed steps per run (default 60)"},
+       {"--warmup", "N", "untimed steps first, from the start of the drop (default 5)"},
+       {"--delassus-reuse", "N", "solver.delassus_reuse (default " + std::to_string(defaults.delassus_reuse) + ")"},
+       {"--refactor-interval", "N",
+        "solver.refactor_interval (default " + std::to_string(defaults.refactor_interval) + ")"},
+       {"--mesh", "NAME", "bunny_5 or cube_20: that mesh only (default: both)"},
+       {"--mode", "MODE", "one_newton_iteration or newton_converged_1e-6: that mode only\n"
+                          "                          (default: both)"},
+       {"--threads", "T", "1 or 2: that thread count only (default: both)"},
+       {"--out", "FILE", "JSON results (default bench_hyperelastic.json)"}},
+      0);
+  int warmup = 5, steps = 60, delassus_reuse = defaults.delassus_reuse, refactor_interval = defaults.refactor_interval;
   std::string out = "bench_hyperelastic.json";
   std::string only_mesh, only_mode;  // empty: all
   int only_threads = 0;              // 0: 1 and 2
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--steps" && i + 1 < argc) steps = std::stoi(argv[++i]);
-    else if (arg == "--warmup" && i + 1 < argc) warmup = std::stoi(argv[++i]);
-    else if (arg == "--out" && i + 1 < argc) out = argv[++i];
-    else if (arg == "--delassus-reuse" && i + 1 < argc) delassus_reuse = std::stoi(argv[++i]);
-    else if (arg == "--refactor-interval" && i + 1 < argc) refactor_interval = std::stoi(argv[++i]);
-    else if (arg == "--mesh" && i + 1 < argc) only_mesh = argv[++i];
-    else if (arg == "--mode" && i + 1 < argc) only_mode = argv[++i];
-    else if (arg == "--threads" && i + 1 < argc) only_threads = std::stoi(argv[++i]);
-    else {
-      std::fprintf(stderr, "usage: sinew_bench_hyperelastic [--steps N] [--warmup N] [--delassus-reuse N] [--refactor-interval N]\n"
-                   "                                 [--mesh bunny_5|cube_20] [--mode one_newton_iteration|newton_converged_1e-6]\n"
-                   "                                 [--threads 1|2] [--out FILE]\n"
-                   "  --mesh, --mode, --threads run only that case (default: every mesh, mode and thread count)\n");
-      return 2;
-    }
-  }
-  // A case name that matches nothing would run nothing and write an empty result.
-  const bool known_mesh = only_mesh.empty() || std::any_of(kMeshes.begin(), kMeshes.end(), [&](const MeshCase& m) {
-                            return m.name == only_mesh;
-                          });
-  if (!known_mesh || !(only_mode.empty() || only_mode == "one_newton_iteration" || only_mode == "newton_converged_1e-6") ||
-      !(only_threads == 0 || only_threads == 1 || only_threads == 2)) {
-    std::fprintf(stderr, "sinew_bench_hyperelastic: --mesh must be bunny_5 or cube_20, --mode one_newton_iteration or "
-                         "newton_converged_1e-6, --threads 1 or 2\n");
+  try {
+    if (!options.parse(argc - 1, argv + 1)) return 0;
+    steps = options.get_int("--steps", steps, 1);
+    warmup = options.get_int("--warmup", warmup, 0);
+    delassus_reuse = options.get_int("--delassus-reuse", delassus_reuse, 1);
+    refactor_interval = options.get_int("--refactor-interval", refactor_interval, 1);
+    out = options.get("--out", out);
+    // A case name that matches nothing would run nothing and write an empty result.
+    std::vector<std::string> meshes;
+    for (const MeshCase& m : kMeshes) meshes.push_back(m.name);
+    only_mesh = one_of(options, "--mesh", meshes);
+    only_mode = one_of(options, "--mode", {"one_newton_iteration", "newton_converged_1e-6"});
+    const std::string threads = one_of(options, "--threads", {"1", "2"});
+    if (!threads.empty()) only_threads = cli::parse_int(threads, "option --threads", 1);
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "sinew_bench_hyperelastic: %s\n", e.what());
     return 2;
   }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},

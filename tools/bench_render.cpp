@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <tuple>
 #include <unistd.h>
 
 #include "engine/io/atomic_file.hpp"
@@ -20,6 +21,7 @@
 #include "engine/simulate_frame.hpp"
 #include "render/renderer.hpp"
 #include "render/video_recorder.hpp"
+#include "tools/cli_options.hpp"
 
 using namespace sinew;
 namespace fs = std::filesystem;
@@ -107,35 +109,49 @@ nlohmann::json bench_record(const SceneDesc& scene, const RenderOptions& options
           {"finish_ms", finish_ms}, {"wall_ms_per_frame", wall_ms / frames}};
 }
 
+// "WxH": two positive integers.
+std::pair<int, int> parse_size(const std::string& text) {
+  const cli::UsageError error("option --size expects WxH, two integers >= 1 (e.g. 1280x720), got '" + text + "'");
+  const auto x = text.find('x');
+  if (x == std::string::npos) throw error;
+  try {  // parse_int's own message replaced by one that shows the whole value
+    return {cli::parse_int(text.substr(0, x), "width", 1), cli::parse_int(text.substr(x + 1), "height", 1)};
+  } catch (const cli::UsageError&) {
+    throw error;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // progress shows even when piped
+  cli::Options args(
+      "sinew_bench_render [OPTION...]",
+      "What drawing and recording cost per frame on this machine's GL (llvmpipe on CPU machines):\n"
+      "draw and readback, then a live loop with no video, with the capture thread and without it.\n"
+      "Medians over the frames of a run; JSON out.",
+      {{"--scene", "FILE", "scene, relative to the source tree or absolute\n"
+                           "                          (default assets/scenes/default.json)"},
+       {"--frames", "N", "timed frames per measurement (default 60)"},
+       {"--warmup", "N", "untimed frames before the draw and readback timing (default 5)"},
+       {"--size", "WxH", "picture size in pixels (default 1280x720)"},
+       {"--samples", "S", "MSAA samples, at most what the driver offers; 0 or 1: none (default 4)"},
+       {"--out", "FILE", "JSON results (default bench_render.json)"}},
+      0);
   std::string out = "bench_render.json";
   std::vector<std::string> scenes = {"assets/scenes/default.json"};
   int frames = 60, warmup = 5, width = 1280, height = 720, samples = 4;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s expects a value\n", arg.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
-    if (arg == "--out") out = next();
-    else if (arg == "--frames") frames = std::stoi(next());
-    else if (arg == "--warmup") warmup = std::stoi(next());
-    else if (arg == "--scene") scenes = {next()};
-    else if (arg == "--samples") samples = std::stoi(next());
-    else if (arg == "--size") {
-      const std::string s = next();
-      width = std::stoi(s.substr(0, s.find('x'))), height = std::stoi(s.substr(s.find('x') + 1));
-    } else {
-      std::printf("usage: sinew_bench_render [--scene FILE] [--frames N] [--warmup N] [--size WxH] [--samples MSAA] [--out FILE]\n"
-                  "  FILE relative to the source tree or absolute (default assets/scenes/default.json)\n");
-      return arg == "--help" ? 0 : 2;
-    }
+  try {
+    if (!args.parse(argc - 1, argv + 1)) return 0;
+    out = args.get("--out", out);
+    if (args.has("--scene")) scenes = {args.get("--scene")};
+    frames = args.get_int("--frames", frames, 1);
+    warmup = args.get_int("--warmup", warmup, 0);
+    samples = args.get_int("--samples", samples, 0);
+    if (args.has("--size")) std::tie(width, height) = parse_size(args.get("--size"));
+  } catch (const cli::UsageError& e) {
+    std::fprintf(stderr, "sinew_bench_render: %s\n", e.what());
+    return 2;
   }
   RenderOptions options;
   options.width = width, options.height = height;

@@ -24,13 +24,13 @@ Options::Options(std::string usage, std::string summary, std::vector<OptionSpec>
 std::string Options::help() const {
   std::ostringstream out;
   out << "usage: " << m_usage << "\n\n" << m_summary << "\n\noptions:\n";
-  for (const OptionSpec& s : m_specs) {
-    std::string left = "  " + s.name + (s.value.empty() ? "" : " " + s.value);
+  const auto line = [&](std::string left, const std::string& help) {
     if (left.size() < 26) left.resize(26, ' ');
     else left += "\n" + std::string(26, ' ');
-    out << left << s.help << "\n";
-  }
-  out << "  -h, --help                show this help\n";
+    out << left << help << "\n";
+  };
+  for (const OptionSpec& s : m_specs) line("  " + s.name + (s.value.empty() ? "" : " " + s.value), s.help);
+  line("  -h, --help", "show this help");
   return out.str();
 }
 
@@ -64,7 +64,7 @@ bool Options::parse(int argc, char** argv) {
   if (count < m_positional_count || count > m_max_positional)
     throw UsageError("expected " + std::to_string(m_positional_count) +
                      (m_max_positional > m_positional_count ? " to " + std::to_string(m_max_positional) : "") +
-                     " argument(s), got " + std::to_string(count) + "\nusage: " + m_usage);
+                     " argument(s), got " + std::to_string(count) + " (see --help)");
   return true;
 }
 

@@ -18,6 +18,7 @@
 
 #include "engine/core/error.hpp"
 #include "engine/io/atomic_file.hpp"
+#include "tools/cli_options.hpp"
 #include "tools/work_precision/report.hpp"
 
 using namespace sinew;
@@ -94,15 +95,14 @@ int main(int argc, char** argv) {
       else if (arg == "--out") o.out = value();
       else if (arg == "--cache") o.cache = value();
       else if (arg == "--only") o.only = split(value());
-      else if (arg == "--threads") o.threads = std::stoi(value());
+      else if (arg == "--threads") o.threads = cli::parse_int(value(), "option --threads", 1);
       else if (arg == "--help" || arg == "-h") return usage(stdout), 0;
       else throw std::invalid_argument("unknown option " + arg);
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "sinew_work_precision: %s\n", e.what());
-      return usage(stderr), 2;
+      std::fprintf(stderr, "sinew_work_precision: %s (see --help)\n", e.what());
+      return 2;
     }
   }
-  if (o.threads < 1) return usage(stderr), 2;
   std::vector<Family> families;
   for (Family& f : make_families())
     if (o.only.empty() ? f.in_default_run : std::find(o.only.begin(), o.only.end(), f.name) != o.only.end())
