@@ -221,17 +221,19 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd
   collect_terms(spec, svd, terms);
 
   // dc_ij/dF(r, c) = (dV/dF(r, c) e_i) . m_j, so sum_j q_j dc_ij/dF(r, c) = dV e_i . (M q).
-  const SvdDerivative d = compute_svd_derivative(svd, gap_tolerance);
+  const SvdRotationDerivative d = compute_svd_rotation_derivative(svd, gap_tolerance);
   for (int t = 0; t < terms.count; ++t) {
     const Term& term = terms.term[t];
     if (!(term.C < margin || (keep >> term.k & 1u))) continue;
     // dC/dF = sum_l P_l u_l v_l^T + sum_l (dV e_l) . (M Q^T e_l), entry by entry
-    // (dc_lj = (dV e_l) . m_j).
+    // (dc_lj = (dV e_l) . m_j): <dV, W> with W = M Q^T, = <Omega_V, X> with X = V^T W,
+    // Omega_V antisymmetric: sum over pairs k < l of Omega_V(k, l) (X_kl - X_lk).
     Mat3 G = svd.U * term.P.asDiagonal() * svd.V.transpose();
     if (term.Q.squaredNorm() > 0) {
-      const Mat3 W = spec.frame * term.Q.transpose();
+      const Mat3 X = svd.V.transpose() * (spec.frame * term.Q.transpose());
+      const Vec3 x(X(0, 1) - X(1, 0), X(0, 2) - X(2, 0), X(1, 2) - X(2, 1));
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) G(r, c) += d.dV[r][c].cwiseProduct(W).sum();
+        for (int c = 0; c < 3; ++c) G(r, c) += d.omega_V[r][c].dot(x);
     }
     StrainLimitRow& row = out.row[out.count++];
     row.index = term.k;

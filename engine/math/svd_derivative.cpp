@@ -59,4 +59,21 @@ SvdDerivative compute_svd_derivative(const RotationVariantSvd& svd, double gap_t
   return d;
 }
 
+SvdRotationDerivative compute_svd_rotation_derivative(const RotationVariantSvd& svd, double gap_tolerance) {
+  SvdRotationDerivative d;
+  const double eps = clamp_epsilon(svd, gap_tolerance);
+  constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      for (int p = 0; p < 3; ++p) {
+        // solve_omegas' b for the pair, with A = (row r of U)^T (row c of V).
+        const int k = kPairs[p][0], l = kPairs[p][1];
+        const double A_kl = svd.U(r, k) * svd.V(c, l), A_lk = svd.U(r, l) * svd.V(c, k);
+        const double diff = std::min(svd.S(l) - svd.S(k), -eps);
+        const double sum = std::max(svd.S(l) + svd.S(k), eps);
+        d.omega_V[r][c](p) = 0.5 * (A_kl + A_lk) / diff - 0.5 * (A_kl - A_lk) / sum;
+      }
+  return d;
+}
+
 }  // namespace sinew

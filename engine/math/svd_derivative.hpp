@@ -59,4 +59,15 @@ struct SvdDerivative {
 SvdDerivative compute_svd_derivative(const RotationVariantSvd& svd,
                                      double gap_tolerance = kSvdGapTolerance);
 
+// Only V's rotation rate: Omega_V's entries (0, 1), (0, 2), (1, 2) along each dF = e_r e_c^T
+// (dV[r][c] = V Omega_V). A linear functional of dV, <dV, W>, is then <Omega_V, V^T W>:
+// three products per entry instead of nine, and no 3 x 3 product per entry to form dV
+// (the strain limits' Jacobians, strain_limit.cpp).
+struct SvdRotationDerivative {
+  Vec3 omega_V[3][3];
+};
+
+SvdRotationDerivative compute_svd_rotation_derivative(const RotationVariantSvd& svd,
+                                                      double gap_tolerance = kSvdGapTolerance);
+
 }  // namespace sinew

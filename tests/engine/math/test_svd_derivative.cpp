@@ -115,6 +115,13 @@ TEST_CASE("SVD derivative: the differential reconstructs dF, and Omegas are anti
   CHECK((all.dU[1][2] - e12.dU).norm() < 1e-14);
   CHECK((all.dV[1][2] - e12.dV).norm() < 1e-14);
   CHECK((all.dS[1][2] - e12.dS).norm() < 1e-14);
+  // V's rotation rate alone: Omega_V's upper entries, the same as the full derivative's.
+  const SvdRotationDerivative rotation = compute_svd_rotation_derivative(svd);
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) {
+      const Mat3 omega_V = svd.V.transpose() * all.dV[r][c];
+      CHECK((rotation.omega_V[r][c] - Vec3(omega_V(0, 1), omega_V(0, 2), omega_V(1, 2))).norm() < 1e-13);
+    }
 }
 
 TEST_CASE("SVD derivative: repeated and zero singular values give finite, bounded results") {
@@ -147,6 +154,9 @@ TEST_CASE("SVD derivative: repeated and zero singular values give finite, bounde
         const Mat3 omega_V = svd.V.transpose() * d.dV[r][c];
         CHECK(omega_U.cwiseAbs().maxCoeff() <= 2 / eps * (1 + 1e-12));
         CHECK(omega_V.cwiseAbs().maxCoeff() <= 2 / eps * (1 + 1e-12));
+        // The strain limits' lean form clamps alike.
+        const Vec3 lean = compute_svd_rotation_derivative(svd, tol).omega_V[r][c];
+        CHECK((lean - Vec3(omega_V(0, 1), omega_V(0, 2), omega_V(1, 2))).norm() <= 1e-12 * (1 + omega_V.norm()));
       }
   }
   // At F = I (U = V), a rotation dF = W (antisymmetric) is reproduced exactly:
