@@ -95,7 +95,8 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
 }
 
 void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_index,
-                            const std::vector<const double*>& columns, const std::vector<int>* node_body) {
+                            const std::vector<const double*>& columns, const std::vector<int>* node_body,
+                            const std::vector<long>* generations) {
   const int m = rows.size();
   m_diagonal.resize(m);  // size() from here on
   Eigen::Map<MatX> W = this->W();
@@ -111,6 +112,7 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
   // 300-600 rows, a third of that when rows on different bodies are left out.
   fill_symmetric(W, [&](int i, int j) {
     if ((m_body_mask[i] & m_body_mask[j]) == 0) return 0.0;
+    if (generations && (*generations)[i] > (*generations)[j]) std::swap(i, j);  // J_i y_j with y_j right on row i
     const double* y = columns[j];
     double s = 0;
     for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)

@@ -33,8 +33,10 @@ class Delassus {
   // `node_body` (global node -> body), entries between rows on no common body are 0 without
   // a sum: H couples no two bodies (no element spans two; build_model checks it), so Y_j is
   // zero on the bodies row j does not touch.
+  // With `generations` (row_column_cache.hpp: partial columns), W_ij is read from the
+  // column of the later generation, the one right on the other row's stencil.
   void build_direct(const RowTable& rows, const std::vector<int>& free_index, const std::vector<const double*>& columns,
-                    const std::vector<int>* node_body = nullptr);
+                    const std::vector<int>* node_body = nullptr, const std::vector<long>* generations = nullptr);
   // Entries W_ij (i >= j) the last build_direct knew were 0 without a sum, and those it
   // summed (tests; counted on demand, O(m^2)).
   long zero_entries() const;

@@ -34,6 +34,20 @@ void RowColumnCache::reset() {
   m_have_previous_call.value = false;
   m_previous_from_entries = false;
   m_same_as_previous = false;
+  m_generation = 0;
+  m_wanted.clear();
+  m_node_generation = kComplete;
+}
+
+void RowColumnCache::want_stencils(const RowTable& rows, const std::vector<int>& free_index) {
+  m_wanted_scratch.clear();
+  for (int e = 0; e < rows.begin[rows.size()]; ++e)
+    if (const int f = free_index[rows.nodes[e]]; f >= 0)
+      for (int c = 0; c < 3; ++c) m_wanted_scratch.push_back(3 * f + c);
+  m_wanted_scratch.insert(m_wanted_scratch.end(), m_wanted.begin(), m_wanted.end());
+  std::sort(m_wanted_scratch.begin(), m_wanted_scratch.end());
+  m_wanted_scratch.erase(std::unique(m_wanted_scratch.begin(), m_wanted_scratch.end()), m_wanted_scratch.end());
+  m_wanted.swap(m_wanted_scratch);
 }
 
 void RowColumnCache::remember_call(const RowTable& rows) {
@@ -133,7 +147,7 @@ void RowColumnCache::ensure_slots(int entries) {
   }
 }
 
-void RowColumnCache::store(const RowTable& rows, int i, const double* y, int free_dofs) {
+void RowColumnCache::store(const RowTable& rows, int i, const double* y, int free_dofs, long generation) {
   const uint64_t key = rows.key[i];
   Entry* entry = find(key);
   if (!entry) {
@@ -148,6 +162,7 @@ void RowColumnCache::store(const RowTable& rows, int i, const double* y, int fre
   entry->y.resize(free_dofs);
   entry->y = Eigen::Map<const VecX>(y, free_dofs);
   entry->last_call = m_call;
+  entry->generation = generation;
 }
 
 void RowColumnCache::evict(int rows) {

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <vector>
 
 #include "engine/constraints/row_table.hpp"
@@ -35,10 +36,24 @@ class RowColumnCache {
   // the free index of global node n or -1. The pointers hold until the next call or reset().
   // Returns the columns solved (3 per new node). Node columns are full columns, unlike
   // TouchedInverse's G, which keeps only the touched nodes' rows (combined rows need all).
+  // With `partial`, the columns it solves are right only where W = J Y reads them: on the
+  // free DOFs of the stencils of every row given since reset() (the wanted rows of
+  // `solve_many(B, X, wanted)`, whose supernodal backward pass then skips the rest of L:
+  // ~30 % of the solve on the creatures of the default demo), and elsewhere zero or garbage;
+  // `solve_many` gets nullptr as `wanted` otherwise. See generations().
   template <typename SolveMany>
   int columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany&& solve_many,
-              std::vector<const double*>& columns, int node_budget = 0);
+              std::vector<const double*>& columns, int node_budget = 0, bool partial = false);
   static constexpr double kNodeColumnEntries = 1 << 24;  // 128 MB of node columns at most
+
+  // Per row of the last call, the generation of its column: the count of solving calls since
+  // reset() when it was solved, kComplete for a whole column. A column of generation g is
+  // right on the stencils of every row of the calls up to g, so W_ij = J_i y_j = J_j y_i is
+  // read from whichever of y_i, y_j has the later generation (Delassus::build_direct).
+  static constexpr long kComplete = std::numeric_limits<long>::max();
+  const std::vector<long>& generations() const { return m_generations; }
+  // Whether every column of the last call is whole (H^-1 J^T itself, usable beyond W).
+  bool complete() const { return m_complete; }
 
   int size() const { return static_cast<int>(m_index.size()); }
   // Whether the last call gave every row the very column the call before it gave (the same
@@ -59,12 +74,15 @@ class RowColumnCache {
     std::vector<Vec3> jac;
     VecX y;
     long last_call = 0;  // the call that last used or solved it
+    long generation = kComplete;
   };
   bool matches(const Entry& entry, const RowTable& rows, int i, int free_dofs) const;
   // Drops the entries the last call did not use, once they outnumber the rows: a
   // factorisation kept for several steps would otherwise keep every row it ever saw.
   void evict(int rows);
-  void store(const RowTable& rows, int i, const double* y, int free_dofs);
+  void store(const RowTable& rows, int i, const double* y, int free_dofs, long generation);
+  // Adds the free DOFs of every row's stencil to m_wanted (sorted, unique).
+  void want_stencils(const RowTable& rows, const std::vector<int>& free_index);
   // Free slots enough for `entries` entries in all. After each call at most its rows stay
   // (evict), so a call of m rows holds at most m_before + m: with 2 m slots ready, and each
   // slot's column kept once used, the cache allocates only when it holds more entries at
@@ -74,7 +92,7 @@ class RowColumnCache {
   // stores them.
   template <typename SolveMany>
   void solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs, SolveMany& solve_many,
-                     std::vector<const double*>& columns);
+                     std::vector<const double*>& columns, bool partial);
   // Node columns: the free nodes of the energy rows not yet held (m_new_nodes), and
   // whether every free node of row i has (or is about to have) its columns.
   // Empties m_new_nodes again when they exceed the budget (see the class comment).
@@ -118,13 +136,21 @@ class RowColumnCache {
     CallFlag& operator=(CallFlag&&) noexcept { value = false; return *this; }
   };
   CallFlag m_have_previous_call;
+  // Partial columns: the solving calls since reset(), the DOFs they were right on, the
+  // node columns' generation; the last call's generations.
+  long m_generation = 0;
+  std::vector<int> m_wanted, m_wanted_scratch;
+  long m_node_generation = kComplete;
+  std::vector<long> m_generations;
+  bool m_complete = true;
   void remember_call(const RowTable& rows);
   ScratchMatrix m_node_columns, m_derived_columns;
 };
 
 template <typename SolveMany>
 int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
-                            SolveMany&& solve_many, std::vector<const double*>& columns, int node_budget) {
+                            SolveMany&& solve_many, std::vector<const double*>& columns, int node_budget,
+                            bool partial) {
   const int m = rows.size();
   const bool node_columns = node_budget > 0;
   ++m_call;
@@ -136,11 +162,13 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
   m_derived.clear();
   if (node_columns) m_node_slot.resize(free_dofs / 3, -1);  // reset() leaves every entry -1
   if (node_columns && !m_nodes_chosen) collect_new_nodes(rows, free_index, free_dofs, node_budget);
+  m_generations.assign(m, kComplete);
   for (int i = 0; i < m; ++i) {
     Entry* entry = find(rows.key[i]);
     if (entry && matches(*entry, rows, i, free_dofs)) {
       entry->last_call = m_call;
       columns[i] = entry->y.data();
+      m_generations[i] = entry->generation;
       m_kept.push_back(rows.key[i]);
     } else if (node_columns && rows.kind[i] == RowKind::Energy && has_node_columns(rows, free_index, i)) {
       m_derived.push_back(i);
@@ -149,8 +177,10 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
     }
   }
   const int solved = static_cast<int>(m_missing.size() + 3 * m_new_nodes.size());
-  if (solved > 0) solve_missing(rows, free_index, free_dofs, solve_many, columns);
+  if (solved > 0) solve_missing(rows, free_index, free_dofs, solve_many, columns, partial);
   if (!m_derived.empty()) combine_node_columns(rows, free_index, free_dofs, columns);
+  for (const int i : m_derived) m_generations[i] = m_node_generation;
+  m_complete = std::all_of(m_generations.begin(), m_generations.end(), [](long g) { return g == kComplete; });
   remember_call(rows);
   evict(m);
   return solved;
@@ -158,7 +188,7 @@ int RowColumnCache::columns(const RowTable& rows, const std::vector<int>& free_i
 
 template <typename SolveMany>
 void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>& free_index, int free_dofs,
-                                   SolveMany& solve_many, std::vector<const double*>& columns) {
+                                   SolveMany& solve_many, std::vector<const double*>& columns, bool partial) {
   const int row_count = static_cast<int>(m_missing.size()), node_count = static_cast<int>(m_new_nodes.size());
   const int solved = row_count + 3 * node_count;
   Eigen::Map<MatX> B = m_B.view(free_dofs, solved), X = m_X.view(free_dofs, solved);
@@ -169,8 +199,15 @@ void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>&
       if (const int f = free_index[rows.nodes[e]]; f >= 0) B.block<3, 1>(3 * f, k) += rows.jac[e];
   }
   for (int k = 0; k < node_count; ++k) B.block<3, 3>(3 * m_new_nodes[k], row_count + 3 * k).setIdentity();
-  solve_many(B, X);
+  long generation = kComplete;
+  if (partial) {
+    want_stencils(rows, free_index);
+    generation = ++m_generation;
+  }
+  solve_many(B, X, partial ? &m_wanted : nullptr);
+  for (const int i : m_missing) m_generations[i] = generation;
   if (node_count > 0) {  // only on the first call after reset(): nothing held yet
+    m_node_generation = generation;
     m_node_columns.view(free_dofs, 3 * node_count) = X.rightCols(3 * node_count);
     for (int k = 0; k < node_count; ++k) {
       m_node_slot[m_new_nodes[k]] = static_cast<int>(m_nodes.size());
@@ -182,7 +219,7 @@ void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>&
     const int i = m_missing[k];
     columns[i] = X.col(k).data();
     // A key kept for another row of this call keeps its entry: columns[] points into it.
-    if (!std::binary_search(m_kept.begin(), m_kept.end(), rows.key[i])) store(rows, i, columns[i], free_dofs);
+    if (!std::binary_search(m_kept.begin(), m_kept.end(), rows.key[i])) store(rows, i, columns[i], free_dofs, generation);
   }
 }
 

@@ -151,7 +151,8 @@ bool strays_beyond_margin(const Model& model, const VecX& v0, const VecX& v) {
 // (row_column_cache.hpp). Returns the columns solved; `approximate` says whether W came
 // from a kept G of an earlier factorisation (solver.delassus_reuse), `per_row` whether
 // from the rows' columns (then in s.row_column_scratch).
-int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& approximate, bool& per_row) {
+int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& approximate, bool& per_row,
+                    bool columns_cheaper) {
   approximate = false;
   per_row = false;
   const int m = s.rows.size();
@@ -168,19 +169,22 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
     if (const int f = model.free_index[node]; f >= 0 && s.touched_inverse.local(f) < 0) touched.push_back(f);
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  const auto solve_many = [&](const auto& B, auto& X) { solver.solve_many(B, X); };
+  const auto solve_many = [&](const auto& B, auto& X, const std::vector<int>* wanted) { solver.solve_many(B, X, wanted); };
   if (3 * static_cast<int>(touched.size()) > m) {
     // Energy rows from node columns when a CHOLMOD factorisation serves several steps (PCG
     // keeps no factor: its columns would be solved again every step, and only to its
     // tolerance), at most 8 node columns per energy row and step of its life (the
     // creature's: 22-28 nodes for 3-6 rows at refactor_interval 4).
     const int node_budget = model.solver.refactor_interval > 1 && solver.uses_cholmod() ? 8 * model.solver.refactor_interval : 0;
+    // Whole columns only where they serve beyond W (columns_cheaper: Y^T r and Y lambda
+    // instead of solves); else right on the rows' stencils only (row_column_cache.hpp).
     const int solved = s.row_columns.columns(s.rows, model.free_index, 3 * model.num_free, solve_many,
-                                             s.row_column_scratch, node_budget);
+                                             s.row_column_scratch, node_budget, !columns_cheaper);
     // Contacts on a plane keep their Jacobians, and so their columns, from one SQP
     // iteration (and step) to the next while the factorisation lasts: W then stands.
     if (!(s.row_columns.same_columns_as_previous_call() && s.delassus.built_direct(m)))
-      s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch, &model.node_body);
+      s.delassus.build_direct(s.rows, model.free_index, s.row_column_scratch, &model.node_body,
+                              s.row_columns.complete() ? nullptr : &s.row_columns.generations());
     per_row = true;
     return solved;
   }
@@ -411,15 +415,17 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       }
     }
     StageTimer solve_timer(profile, Stage::SqpSolve);
-    bool per_row = false;
-    if (m > 0) solved_columns += factor_delassus(model, solver, s, approximate, per_row);
     // With the rows' columns Y = H^-1 J^T at hand, J H^-1 r = Y^T r needs no solve, and the
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken
     // when the m dot products cost less than the solve they save (two passes over L): the
     // creature's 96-99 rows of 1950 DOFs against a supernodal factor of 222k entries.
+    // Otherwise the columns serve W alone and need to be right on the rows' stencils only.
     const bool columns_cheaper =
         shared_solves_on && static_cast<double>(m) * static_cast<double>(v_free.size()) < 2.0 * solver.factor_entries();
-    const bool one_solve = k > 0 && per_row && columns_cheaper;
+    bool per_row = false;
+    if (m > 0) solved_columns += factor_delassus(model, solver, s, approximate, per_row, columns_cheaper);
+    const bool whole_columns = per_row && columns_cheaper && s.row_columns.complete();
+    const bool one_solve = k > 0 && whole_columns;
     // With an approximate W (a kept G), W lambda_0 costs a solve, and so does the Newton
     // step H^-1 r; the LCP needs only J H^-1 (r + J^T lambda_0) of them, one solve, and
     // v_k+1 = v_k + H^-1 (r + J^T lambda) follows the LCP: two solves per iteration, not three.
@@ -486,7 +492,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       if (one_solve || fused) {
         sc.dv = sc.residual + sc.impulse;
         solver.solve(sc.dv, sc.correction);
-      } else if (per_row && columns_cheaper) {
+      } else if (whole_columns) {
         // H^-1 J^T lambda = Y lambda from the rows' own columns, no solve (the first QP of
         // a step; later ones fold it into the Newton step's solve above). Each entry sums the
         // columns in row order, by one task, in chunks that depend on n alone (the simple

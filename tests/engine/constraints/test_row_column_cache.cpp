@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "engine/constraints/delassus.hpp"
@@ -50,7 +51,7 @@ struct Fixture {
     return J;
   }
   int fill(RowColumnCache& cache, std::vector<const double*>& columns, int node_budget = 0) {
-    return cache.columns(rows, free_index, dofs(), [this](const auto& B, auto& X) {
+    return cache.columns(rows, free_index, dofs(), [this](const auto& B, auto& X, const std::vector<int>*) {
       solves += static_cast<int>(B.cols());
       X = llt.solve(B);
     }, columns, node_budget);
@@ -145,7 +146,7 @@ TEST_CASE("row_column_cache: a new factorisation of the step system empties the 
   REQUIRE(factorize_step_system(world.model(), solver, state));
   std::vector<const double*> columns;
   const int dofs = 3 * world.model().num_free;
-  state.row_columns.columns(rows, world.model().free_index, dofs, [&](const auto& B, auto& X) { solver.solve_many(B, X); },
+  state.row_columns.columns(rows, world.model().free_index, dofs, [&](const auto& B, auto& X, const std::vector<int>*) { solver.solve_many(B, X); },
                             columns);
   REQUIRE(state.row_columns.size() == 1);
   REQUIRE(factorize_step_system(world.model(), solver, state));
@@ -353,4 +354,70 @@ TEST_CASE("row_column_cache: a call may be skipped only for the last call's rows
   RowColumnCache moved = std::move(copy);
   CHECK_FALSE(moved.repeats_last_call(p.rows));
   CHECK(cache.repeats_last_call(p.rows));  // the original still may
+}
+
+TEST_CASE("row_column_cache: partial columns, right on the stencils seen so far, give W = J H^-1 J^T") {
+  constexpr int kBudget = 24;
+  Fixture p;
+  for (int i = 0; i < 3; ++i) p.rows.kind[i] = RowKind::Energy;  // rows 0-2 from node columns
+  // A partial solve: X right on the wanted rows only, NaN elsewhere, so that any read of a
+  // column off the stencils it was solved for shows in W.
+  std::vector<int> wanted_seen;
+  const auto partial_solve = [&](const auto& B, auto& X, const std::vector<int>* wanted) {
+    REQUIRE(wanted);
+    wanted_seen = *wanted;
+    const MatX full = p.llt.solve(B);
+    X.setConstant(std::numeric_limits<double>::quiet_NaN());
+    for (const int r : *wanted) X.row(r) = full.row(r);
+  };
+  const auto expected_W = [](const Fixture& f, const RowTable& rows) {
+    Fixture g = f;
+    g.rows = rows;
+    const MatX J = g.jacobian();
+    return MatX(J * f.llt.solve(MatX(J.transpose())));
+  };
+  // Call 1: the first 5 rows, on nodes 0-6 (node 0 fixed: 18 of the 33 free DOFs).
+  RowTable first;
+  for (int i = 0; i < 5; ++i) {
+    first.add_row(p.rows.kind[i], 0, 0, 1e300, p.rows.key[i]);
+    for (int e = p.rows.begin[i]; e < p.rows.begin[i + 1]; ++e) first.add_entry(p.rows.nodes[e], p.rows.jac[e]);
+  }
+  RowColumnCache cache;
+  std::vector<const double*> columns;
+  cache.columns(first, p.free_index, p.dofs(), partial_solve, columns, kBudget, true);
+  CHECK_FALSE(cache.complete());
+  CHECK(wanted_seen.size() == 18);  // the rest of X was left out
+  Delassus W;
+  W.build_direct(first, p.free_index, columns, nullptr, &cache.generations());
+  const MatX W1 = expected_W(p, first);
+  CHECK((W.matrix() - W1).lpNorm<Eigen::Infinity>() < 1e-12 * W1.lpNorm<Eigen::Infinity>());
+  // Call 2: all 20 rows, the first 5 kept (and the energy rows derived), 15 new ones, most
+  // on stencils call 1 did not want: their columns are of a later generation.
+  cache.columns(p.rows, p.free_index, p.dofs(), partial_solve, columns, kBudget, true);
+  CHECK(wanted_seen.size() == 33);
+  const std::vector<long>& g = cache.generations();
+  for (int i = 5; i < 20; ++i) CHECK(g[i] > g[0]);
+  W.build_direct(p.rows, p.free_index, columns, nullptr, &g);
+  const MatX W2 = expected_W(p, p.rows);
+  CHECK((W.matrix() - W2).lpNorm<Eigen::Infinity>() < 1e-12 * W2.lpNorm<Eigen::Infinity>());
+  // Without the generations some entries read a column off its stencils: NaN.
+  Delassus unordered;
+  unordered.build_direct(p.rows, p.free_index, columns);
+  CHECK_FALSE(unordered.matrix().allFinite());
+  // A whole solve (partial = false) of a changed row: complete columns beside partial ones.
+  p.rows.jac[p.rows.begin[15]] *= 2;
+  cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>* wanted) {
+    CHECK(wanted == nullptr);
+    X = p.llt.solve(B);
+  }, columns, kBudget, false);
+  CHECK(cache.generations()[15] == RowColumnCache::kComplete);
+  CHECK_FALSE(cache.complete());
+  W.build_direct(p.rows, p.free_index, columns, nullptr, &cache.generations());
+  const MatX W3 = expected_W(p, p.rows);
+  CHECK((W.matrix() - W3).lpNorm<Eigen::Infinity>() < 1e-12 * W3.lpNorm<Eigen::Infinity>());
+  // After a factorisation, whole columns throughout: complete.
+  cache.reset();
+  cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>*) { X = p.llt.solve(B); },
+                columns, kBudget, false);
+  CHECK(cache.complete());
 }
