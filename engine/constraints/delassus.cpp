@@ -1,5 +1,7 @@
 #include "engine/constraints/delassus.hpp"
 
+#include <cassert>
+
 #include "engine/constraints/lcp_subspace.hpp"
 
 #include <tbb/blocked_range.h>
@@ -56,12 +58,16 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
   // its diagonal from W itself.
   tbb::parallel_for(tbb::blocked_range<int>(0, m, 32), [&](const tbb::blocked_range<int>& range) {
     for (int i = range.begin(); i < range.end(); ++i) {
+      if (m_dense) {
+        build_column(i);
+        continue;
+      }
       double d = 0;
       for (int e = m_begin[i]; e < m_begin[i + 1]; ++e)
         for (int f = m_begin[i]; f < m_begin[i + 1]; ++f)
           d += m_jac[e].dot(G.block<3, 3>(3 * m_local[e], 3 * m_local[f]) * m_jac[f]);
       m_diagonal[i] = d;
-      if (m_dense || rows.lambda[i] != 0) build_column(i);
+      if (rows.lambda[i] != 0) build_column(i);
     }
   });
   if (!m_dense) return;
@@ -72,6 +78,7 @@ void Delassus::build(const RowTable& rows, const std::vector<int>& local_node, c
 // Column i of T = G Jc^T from row i alone: 24 x 3k flops, rebuilt at every SQP iteration
 // (the rows' Jacobians move).
 void Delassus::build_column(int i) const {
+  assert(m_G_data && !m_direct);  // G of the last build(), which must still be alive
   const Eigen::Map<const MatX, 0, Eigen::OuterStride<>> G(m_G_data, m_k3, m_k3, Eigen::OuterStride<>(m_G_stride));
   auto column = T().col(i);
   column.setZero();
@@ -124,6 +131,8 @@ void Delassus::build_direct(const RowTable& rows, const std::vector<int>& free_i
   m_k3 = 0;
   m_dense = true;
   m_direct = true;
+  m_G_data = nullptr;
+  m_column_built.clear();
 }
 
 long Delassus::zero_entries() const {

@@ -24,7 +24,10 @@ class Delassus {
  public:
   // Rows' stencils on touched nodes: `local_node[n]` is the position in `inverse` of global
   // node n, or -1 (fixed nodes, which carry no velocity). Every free stencil node must have
-  // columns in `inverse`.
+  // columns in `inverse`. In the factored form the columns of T are built from `inverse` on
+  // first use: it must stay unchanged (no require() or reset()) while this W is used. The
+  // const members that read T (multiply, multiply_rows, matrix) may build columns, so they
+  // are not to be called from two threads at once.
   void build(const RowTable& rows, const std::vector<int>& local_node, const TouchedInverse& inverse);
   // W = J Y (dense form); `free_index[n]` is the free index of global node n or -1, Y is
   // 3 free x m.

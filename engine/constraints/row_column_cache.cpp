@@ -35,19 +35,24 @@ void RowColumnCache::reset() {
   m_previous_from_entries = false;
   m_same_as_previous = false;
   m_generation = 0;
+  for (const int dof : m_wanted) m_is_wanted[dof] = 0;
   m_wanted.clear();
   m_node_generation = kComplete;
+  m_generations.clear();
+  m_complete = true;
 }
 
-void RowColumnCache::want_stencils(const RowTable& rows, const std::vector<int>& free_index) {
-  m_wanted_scratch.clear();
+void RowColumnCache::want_stencils(const RowTable& rows, const std::vector<int>& free_index, int free_dofs) {
+  if (static_cast<int>(m_is_wanted.size()) < free_dofs) {  // once per system size: no allocation after
+    m_is_wanted.resize(free_dofs, 0);
+    m_wanted.reserve(free_dofs);
+  }
   for (int e = 0; e < rows.begin[rows.size()]; ++e)
-    if (const int f = free_index[rows.nodes[e]]; f >= 0)
-      for (int c = 0; c < 3; ++c) m_wanted_scratch.push_back(3 * f + c);
-  m_wanted_scratch.insert(m_wanted_scratch.end(), m_wanted.begin(), m_wanted.end());
-  std::sort(m_wanted_scratch.begin(), m_wanted_scratch.end());
-  m_wanted_scratch.erase(std::unique(m_wanted_scratch.begin(), m_wanted_scratch.end()), m_wanted_scratch.end());
-  m_wanted.swap(m_wanted_scratch);
+    if (const int f = free_index[rows.nodes[e]]; f >= 0 && !m_is_wanted[3 * f])
+      for (int c = 0; c < 3; ++c) {
+        m_is_wanted[3 * f + c] = 1;
+        m_wanted.push_back(3 * f + c);
+      }
 }
 
 void RowColumnCache::remember_call(const RowTable& rows) {

@@ -32,10 +32,11 @@ class RowColumnCache {
   void reset();
 
   // Points columns[i] at y_i (3 free-DOF values) for every row of `rows`: kept, or solved by
-  // one call `solve_many(B, X)` (X = H^-1 B, X given with B's size) for all the rows without one. `free_index[n]` is
-  // the free index of global node n or -1. The pointers hold until the next call or reset().
-  // Returns the columns solved (3 per new node). Node columns are full columns, unlike
-  // TouchedInverse's G, which keeps only the touched nodes' rows (combined rows need all).
+  // one call `solve_many(B, X, wanted)` (X = H^-1 B, X given with B's size; `wanted` as
+  // below) for all the rows without one. `free_index[n]` is the free index of global node n
+  // or -1. The pointers hold until the next call or reset(). Returns the columns solved (3
+  // per new node). Node columns are whole columns unless `partial`, unlike TouchedInverse's
+  // G, which keeps only the touched nodes' rows.
   // With `partial`, the columns it solves are right only where W = J Y reads them: on the
   // free DOFs of the stencils of every row given since reset() (the wanted rows of
   // `solve_many(B, X, wanted)`, whose supernodal backward pass then skips the rest of L:
@@ -46,8 +47,8 @@ class RowColumnCache {
               std::vector<const double*>& columns, int node_budget = 0, bool partial = false);
   static constexpr double kNodeColumnEntries = 1 << 24;  // 128 MB of node columns at most
 
-  // Per row of the last call, the generation of its column: the count of solving calls since
-  // reset() when it was solved, kComplete for a whole column. A column of generation g is
+  // Per row of the last call, the generation of its column: the count of partial solving
+  // calls since reset() when it was solved, kComplete for a whole column. A column of generation g is
   // right on the stencils of every row of the calls up to g, so W_ij = J_i y_j = J_j y_i is
   // read from whichever of y_i, y_j has the later generation (Delassus::build_direct).
   static constexpr long kComplete = std::numeric_limits<long>::max();
@@ -81,8 +82,8 @@ class RowColumnCache {
   // factorisation kept for several steps would otherwise keep every row it ever saw.
   void evict(int rows);
   void store(const RowTable& rows, int i, const double* y, int free_dofs, long generation);
-  // Adds the free DOFs of every row's stencil to m_wanted (sorted, unique).
-  void want_stencils(const RowTable& rows, const std::vector<int>& free_index);
+  // Adds the free DOFs of every row's stencil not wanted yet to m_wanted.
+  void want_stencils(const RowTable& rows, const std::vector<int>& free_index, int free_dofs);
   // Free slots enough for `entries` entries in all. After each call at most its rows stay
   // (evict), so a call of m rows holds at most m_before + m: with 2 m slots ready, and each
   // slot's column kept once used, the cache allocates only when it holds more entries at
@@ -139,7 +140,8 @@ class RowColumnCache {
   // Partial columns: the solving calls since reset(), the DOFs they were right on, the
   // node columns' generation; the last call's generations.
   long m_generation = 0;
-  std::vector<int> m_wanted, m_wanted_scratch;
+  std::vector<int> m_wanted;       // in the order first wanted (solve_many takes any order)
+  std::vector<char> m_is_wanted;   // per free DOF; grows once, to the system's size
   long m_node_generation = kComplete;
   std::vector<long> m_generations;
   bool m_complete = true;
@@ -201,7 +203,7 @@ void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>&
   for (int k = 0; k < node_count; ++k) B.block<3, 3>(3 * m_new_nodes[k], row_count + 3 * k).setIdentity();
   long generation = kComplete;
   if (partial) {
-    want_stencils(rows, free_index);
+    want_stencils(rows, free_index, free_dofs);
     generation = ++m_generation;
   }
   solve_many(B, X, partial ? &m_wanted : nullptr);

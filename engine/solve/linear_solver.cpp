@@ -84,6 +84,11 @@ long LinearSolver::factor_entries() const {
   return static_cast<long>(L->is_super ? L->xsize : L->nzmax);
 }
 
+bool LinearSolver::honours_wanted_rows() const {
+  const cholmod_factor* L = m_use_cholmod && m_analyzed ? m_cholmod.factor() : nullptr;
+  return L && L->is_super;
+}
+
 int LinearSolver::solve(const VecX& b, VecX& x) {
   ++m_solves;
   if (m_use_cholmod) {

@@ -60,6 +60,9 @@ class LinearSolver {
   // Entries stored in the CHOLMOD factor (0 without one): a solve costs about two
   // multiply-adds per entry.
   long factor_entries() const;
+  // Whether solve_many's `wanted_rows` can save work (a supernodal CHOLMOD factor; other
+  // paths solve in full).
+  bool honours_wanted_rows() const;
 
  private:
   bool m_pool = (install_cholmod_memory_pool(), true);  // before any CHOLMOD call

@@ -150,7 +150,9 @@ bool strays_beyond_margin(const Model& model, const VecX& v0, const VecX& v) {
 // Y = H^-1 J^T, whose columns are kept for the rows whose Jacobian does not change
 // (row_column_cache.hpp). Returns the columns solved; `approximate` says whether W came
 // from a kept G of an earlier factorisation (solver.delassus_reuse), `per_row` whether
-// from the rows' columns (then in s.row_column_scratch).
+// from the rows' columns (then in s.row_column_scratch: whole columns when
+// s.row_columns.complete(), else right on the rows' stencils only, enough for W). Without
+// `columns_cheaper` (the caller will not use Y beyond W) they may be solved partially.
 int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& approximate, bool& per_row,
                     bool columns_cheaper) {
   approximate = false;
@@ -177,9 +179,11 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
     // creature's: 22-28 nodes for 3-6 rows at refactor_interval 4).
     const int node_budget = model.solver.refactor_interval > 1 && solver.uses_cholmod() ? 8 * model.solver.refactor_interval : 0;
     // Whole columns only where they serve beyond W (columns_cheaper: Y^T r and Y lambda
-    // instead of solves); else right on the rows' stencils only (row_column_cache.hpp).
+    // instead of solves); else right on the rows' stencils only (row_column_cache.hpp), where
+    // the solver can skip the rest (a supernodal factor).
+    const bool partial = !columns_cheaper && solver.honours_wanted_rows();
     const int solved = s.row_columns.columns(s.rows, model.free_index, 3 * model.num_free, solve_many,
-                                             s.row_column_scratch, node_budget, !columns_cheaper);
+                                             s.row_column_scratch, node_budget, partial);
     // Contacts on a plane keep their Jacobians, and so their columns, from one SQP
     // iteration (and step) to the next while the factorisation lasts: W then stands.
     if (!(s.row_columns.same_columns_as_previous_call() && s.delassus.built_direct(m)))

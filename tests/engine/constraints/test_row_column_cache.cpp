@@ -404,6 +404,14 @@ TEST_CASE("row_column_cache: partial columns, right on the stencils seen so far,
   Delassus unordered;
   unordered.build_direct(p.rows, p.free_index, columns);
   CHECK_FALSE(unordered.matrix().allFinite());
+  // The same rows again (an SQP iteration that keeps them, whose caller skips the call) and a
+  // call that wants whole columns but keeps every partial one: neither is complete, so no
+  // caller takes Y beyond W (solve_constraints' whole_columns).
+  CHECK(cache.repeats_last_call(p.rows));
+  CHECK_FALSE(cache.complete());
+  CHECK(cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto&, auto&, const std::vector<int>*) { FAIL("nothing to solve"); },
+                      columns, kBudget, false) == 0);
+  CHECK_FALSE(cache.complete());
   // A whole solve (partial = false) of a changed row: complete columns beside partial ones.
   p.rows.jac[p.rows.begin[15]] *= 2;
   cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>* wanted) {
