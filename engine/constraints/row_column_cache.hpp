@@ -22,6 +22,7 @@
 
 #include "engine/constraints/row_table.hpp"
 #include "engine/core/scratch_matrix.hpp"
+#include "engine/core/zeroed_columns.hpp"
 #include "engine/core/types.hpp"
 
 namespace sinew {
@@ -114,7 +115,8 @@ class RowColumnCache {
   long m_call = 0;
   std::vector<int> m_missing;
   std::vector<uint64_t> m_kept;
-  ScratchMatrix m_B, m_X;
+  ZeroedColumns m_B;
+  ScratchMatrix m_X;
   // Node columns: m_node_slot[f] is free node f's position in m_nodes (its 3 columns at
   // 3 slot in m_node_columns) or -1; rows derived from them this call, and their columns.
   std::vector<int> m_node_slot, m_nodes, m_new_nodes, m_derived;
@@ -194,13 +196,15 @@ void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>&
   const int row_count = static_cast<int>(m_missing.size()), node_count = static_cast<int>(m_new_nodes.size());
   const int solved = row_count + 3 * node_count;
   Eigen::Map<MatX> B = m_B.view(free_dofs, solved), X = m_X.view(free_dofs, solved);
-  B.setZero();
+  const ZeroedColumns::ClearOnExit clear_B{m_B};
   for (int k = 0; k < row_count; ++k) {
     const int i = m_missing[k];
     for (int e = rows.begin[i]; e < rows.begin[i + 1]; ++e)
-      if (const int f = free_index[rows.nodes[e]]; f >= 0) B.block<3, 1>(3 * f, k) += rows.jac[e];
+      if (const int f = free_index[rows.nodes[e]]; f >= 0)
+        for (int c = 0; c < 3; ++c) m_B.add(B, 3 * f + c, k, rows.jac[e][c]);
   }
-  for (int k = 0; k < node_count; ++k) B.block<3, 3>(3 * m_new_nodes[k], row_count + 3 * k).setIdentity();
+  for (int k = 0; k < node_count; ++k)
+    for (int c = 0; c < 3; ++c) m_B.set(B, 3 * m_new_nodes[k] + c, row_count + 3 * k + c, 1.0);
   long generation = kComplete;
   if (partial) {
     want_stencils(rows, free_index, free_dofs);

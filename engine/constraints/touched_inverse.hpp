@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/core/scratch_matrix.hpp"
+#include "engine/core/zeroed_columns.hpp"
 #include "engine/core/types.hpp"
 
 namespace sinew {
@@ -47,7 +48,8 @@ class TouchedInverse {
   MatX m_G;                  // capacity x capacity (3 DOFs per node); the leading block is valid
   std::vector<int> m_added;
   std::vector<int> m_rows;   // require's: the DOFs of every touched node, old and added
-  ScratchMatrix m_B, m_X;
+  ZeroedColumns m_B;
+  ScratchMatrix m_X;
 };
 
 template <typename SolveMany>
@@ -62,8 +64,8 @@ int TouchedInverse::require(const std::vector<int>& nodes, SolveMany&& solve_man
   const int n = 3 * static_cast<int>(m_local.size());
   const int columns = 3 * static_cast<int>(m_added.size());
   Eigen::Map<MatX> B = m_B.view(n, columns), X = m_X.view(n, columns);
-  B.setZero();
-  for (int k = 0; k < columns; ++k) B(3 * m_added[k / 3] + k % 3, k) = 1.0;
+  const ZeroedColumns::ClearOnExit clear_B{m_B};
+  for (int k = 0; k < columns; ++k) m_B.set(B, 3 * m_added[k / 3] + k % 3, k, 1.0);
   m_rows.clear();
   for (const std::vector<int>* list : {&m_nodes, &m_added})
     for (const int f : *list)

@@ -191,13 +191,18 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b
   else if (padded == 4) run_passes<4>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
   else if (padded == 8) run_passes<8>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
   else run_passes<kMaxWidth>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
-  // x = P^T z: zero outside the supernodes the backward pass worked on (wanted ones only).
+  // x = P^T z: zero outside the supernodes the backward pass worked on (wanted ones only),
+  // each entry written once (zeroing all of x first wrote most of it twice: 6 % of the
+  // default demo's instructions).
   const int* super = static_cast<const int*>(L.super);
-  for (int c = 0; c < width; ++c) std::fill_n(x[c], n, 0.0);
   for (int s = 0; s < static_cast<int>(L.nsuper); ++s)
-    if (ws.nonzero[s])
+    if (ws.nonzero[s]) {
       for (int k = super[s]; k < super[s + 1]; ++k)
         for (int c = 0; c < width; ++c) x[c][perm[k]] = y[static_cast<size_t>(k) * padded + c];
+    } else {
+      for (int k = super[s]; k < super[s + 1]; ++k)
+        for (int c = 0; c < width; ++c) x[c][perm[k]] = 0.0;
+    }
 }
 
 }  // namespace sinew
