@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "engine/constraints/row_table.hpp"
@@ -210,7 +211,13 @@ void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>&
     want_stencils(rows, free_index, free_dofs);
     generation = ++m_generation;
   }
-  solve_many(B, X, partial ? &m_wanted : nullptr);
+  const std::vector<int>* wanted = partial ? &m_wanted : nullptr;
+  // Solvers that take it get B's pattern: a few non-zeros a column, read there only.
+  if constexpr (std::is_invocable_v<SolveMany&, Eigen::Map<MatX>&, Eigen::Map<MatX>&, const std::vector<int>*,
+                                    const ZeroedColumns::Pattern*>)
+    solve_many(B, X, wanted, &m_B.pattern(solved));
+  else
+    solve_many(B, X, wanted);
   for (const int i : m_missing) m_generations[i] = generation;
   if (node_count > 0) {  // only on the first call after reset(): nothing held yet
     m_node_generation = generation;

@@ -7,6 +7,7 @@
 // their friction rows all share node columns. Columns are kept for the life of one
 // factorisation of H, whatever the rows' Jacobians do across SQP iterations; a node
 // touched for the first time costs 3 solves.
+#include <type_traits>
 #include <vector>
 
 #include "engine/core/scratch_matrix.hpp"
@@ -70,7 +71,12 @@ int TouchedInverse::require(const std::vector<int>& nodes, SolveMany&& solve_man
   for (const std::vector<int>* list : {&m_nodes, &m_added})
     for (const int f : *list)
       for (int d = 0; d < 3; ++d) m_rows.push_back(3 * f + d);
-  solve_many(B, X, m_rows);
+  // Solvers that take it get B's pattern: a node's unit vectors, read there only.
+  if constexpr (std::is_invocable_v<SolveMany&, Eigen::Map<MatX>&, Eigen::Map<MatX>&, const std::vector<int>&,
+                                    const ZeroedColumns::Pattern*>)
+    solve_many(B, X, m_rows, &m_B.pattern(columns));
+  else
+    solve_many(B, X, m_rows);
   add_columns(m_added, X);
   return columns;
 }

@@ -186,7 +186,15 @@ void LinearSolver::prepare_block_workspaces(int rows) {
   }
 }
 
-void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X, const std::vector<int>* wanted_rows) {
+namespace {
+SupernodalBlockSolve::ColumnRows column_rows(const LinearSolver::ColumnPattern* pattern, int c) {
+  if (!pattern) return {};
+  return {pattern->rows + pattern->start[c], pattern->start[c + 1] - pattern->start[c]};
+}
+}  // namespace
+
+void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X, const std::vector<int>* wanted_rows,
+                              const ColumnPattern* pattern) {
   if (X.rows() != B.rows() || X.cols() != B.cols()) throw std::logic_error("LinearSolver::solve_many: X is not B's size");
   if (m_use_cholmod) {
     m_solves += B.cols();
@@ -221,7 +229,10 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
     for (int c = 0; c < count; ++c) order[c] = c;
     if (L->is_super) {
       m_column_start.resize(count);
-      for (int c = 0; c < count; ++c) m_column_start[c] = m_block_solve.first_position(B.col(c).data());
+      for (int c = 0; c < count; ++c) {
+        const SupernodalBlockSolve::ColumnRows rows = column_rows(pattern, c);
+        m_column_start[c] = m_block_solve.first_position(B.col(c).data(), pattern ? &rows : nullptr);
+      }
       // std::sort with the index as tie-break: the stable order without stable_sort's buffer.
       std::sort(order.begin(), order.end(), [&](int a, int b) {
         return m_column_start[a] != m_column_start[b] ? m_column_start[a] < m_column_start[b] : a < b;
@@ -243,14 +254,16 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
         SolveWorkspace& ws = *m_block_workspaces[task];
         std::array<const double*, kSolveBlock> b{};
         std::array<double*, kSolveBlock> x{};
+        std::array<SupernodalBlockSolve::ColumnRows, kSolveBlock> rows{};
         for (int block = task; block < blocks; block += tasks) {
           const int first = block * block_width;
           const int width = std::min<int>(block_width, count - first);
           for (int j = 0; j < width; ++j) {
             b[j] = B.col(order[first + j]).data();
             x[j] = X.col(order[first + j]).data();
+            rows[j] = column_rows(pattern, order[first + j]);
           }
-          m_block_solve.solve(*L, b.data(), x.data(), width, ws.supernodal, wanted);
+          m_block_solve.solve(*L, b.data(), x.data(), width, ws.supernodal, wanted, pattern ? rows.data() : nullptr);
         }
       });
       return;

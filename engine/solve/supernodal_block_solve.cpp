@@ -142,8 +142,13 @@ void SupernodalBlockSolve::prepare(Workspace& ws) const {
   ws.nonzero.resize(m_factor ? m_factor->nsuper : 0);
 }
 
-int SupernodalBlockSolve::first_position(const double* column) const {
+int SupernodalBlockSolve::first_position(const double* column, const ColumnRows* candidates) const {
   int first = m_n;
+  if (candidates) {
+    for (int r = 0; r < candidates->count; ++r)
+      if (const int i = candidates->rows[r]; column[i] != 0) first = std::min(first, m_position[i]);
+    return first;
+  }
   for (int i = 0; i < m_n; ++i)
     if (column[i] != 0) first = std::min(first, m_position[i]);
   return first;
@@ -162,7 +167,7 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* B, int l
 }
 
 void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b, double* const* x, int width,
-                                 Workspace& ws, const char* wanted) const {
+                                 Workspace& ws, const char* wanted, const ColumnRows* candidates) const {
   if (width < 1 || width > kMaxWidth) throw std::logic_error("SupernodalBlockSolve: width out of range");
   const int n = m_n;
   const int* perm = static_cast<const int*>(L.Perm);
@@ -177,14 +182,19 @@ void SupernodalBlockSolve::solve(const cholmod_factor& L, const double* const* b
   // starts the forward pass there. Reading b in the factor's order cost a random access
   // per row and column, most of them zeros (the default demo: 11 % of its run).
   std::fill_n(y, static_cast<size_t>(n) * padded, 0.0);
+  const auto place = [&](const double* column, int i, int c) {
+    if (column[i] != 0) {
+      const int k = m_position[i];
+      y[static_cast<size_t>(k) * padded + c] = column[i];
+      ws.nonzero[m_supernode_of[k]] = 1;
+    }
+  };
   for (int c = 0; c < width; ++c) {
-    const double* column = b[c];
-    for (int i = 0; i < n; ++i)
-      if (column[i] != 0) {
-        const int k = m_position[i];
-        y[static_cast<size_t>(k) * padded + c] = column[i];
-        ws.nonzero[m_supernode_of[k]] = 1;
-      }
+    if (candidates) {  // only where the caller says its nonzeros are
+      for (int r = 0; r < candidates[c].count; ++r) place(b[c], candidates[c].rows[r], c);
+    } else {
+      for (int i = 0; i < n; ++i) place(b[c], i, c);
+    }
   }
   if (padded == 1) run_passes<1>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);
   else if (padded == 2) run_passes<2>(L, y, m_supernode_of.data(), m_parent.data(), ws.nonzero.data(), wanted, ws.backward_supernodes);

@@ -40,14 +40,21 @@ class SupernodalBlockSolve {
   // Marks in `wanted` (one flag per supernode, resized) the supernodes holding `rows` (rows
   // of A) and their ancestors in the elimination tree: the mask for solve's `wanted`.
   void mark_wanted(const std::vector<int>& rows, std::vector<char>& wanted) const;
+  // Where a column's nonzeros may be: `count` rows of A (duplicates allowed) that hold all of
+  // them, so that a sparse right-hand side is read there instead of over all n rows.
+  struct ColumnRows {
+    const int* rows = nullptr;
+    int count = 0;
+  };
   // The first position, in the factor's order, of a nonzero of `column` (n values); n if none.
-  int first_position(const double* column) const;
+  // With `candidates`, only those rows are read.
+  int first_position(const double* column, const ColumnRows* candidates = nullptr) const;
   // x_c = A^-1 b_c for `width` <= kMaxWidth columns: b[c] and x[c] point to n values each
   // (the columns may lie anywhere: the caller's own storage, no copy into a block). With
   // `wanted` (mark_wanted's mask), x is exact on the wanted supernodes' rows, bit for bit as
   // without it, and zero on the others.
   void solve(const cholmod_factor& L, const double* const* b, double* const* x, int width, Workspace& ws,
-             const char* wanted = nullptr) const;
+             const char* wanted = nullptr, const ColumnRows* candidates = nullptr) const;
   // The same for column-major B and X (leading dimensions ldb and ldx).
   void solve(const cholmod_factor& L, const double* B, int ldb, double* X, int ldx, int width,
              Workspace& ws, const char* wanted = nullptr) const;
