@@ -35,7 +35,8 @@ class RowColumnCache {
 
   // Points columns[i] at y_i (3 free-DOF values) for every row of `rows`: kept, or solved by
   // one call `solve_many(B, X, wanted)` (X = H^-1 B, X given with B's size; `wanted` as
-  // below) for all the rows without one. `free_index[n]` is the free index of global node n
+  // below), or `solve_many(B, X, wanted, pattern)` when it takes B's ZeroedColumns::Pattern
+  // (where each column's few non-zeros lie), for all the rows without one. `free_index[n]` is the free index of global node n
   // or -1. The pointers hold until the next call or reset(). Returns the columns solved (3
   // per new node). Node columns are whole columns unless `partial`, unlike TouchedInverse's
   // G, which keeps only the touched nodes' rows.

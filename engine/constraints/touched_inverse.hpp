@@ -29,7 +29,9 @@ class TouchedInverse {
   // Adds the free nodes of `nodes` (free indices, any order, repeats allowed) that have no
   // columns yet; `solve_many(B, X, rows)` must compute X = H^-1 B (X given with B's size, a
   // map onto kept storage) at least on `rows` (the touched nodes' DOFs, the only rows G
-  // reads: LinearSolver::solve_many's wanted rows). Returns the columns solved.
+  // reads: LinearSolver::solve_many's wanted rows); given `solve_many(B, X, rows, pattern)`
+  // when it takes B's ZeroedColumns::Pattern (each column's one non-zero). Returns the
+  // columns solved.
   template <typename SolveMany>
   int require(const std::vector<int>& nodes, SolveMany&& solve_many);
 

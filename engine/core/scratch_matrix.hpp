@@ -2,7 +2,8 @@
 // A dense matrix whose storage only grows: view(rows, cols) is a map onto kept storage, so
 // sizes that change from call to call (one column per constraint row) allocate only when
 // they exceed every earlier size. Eigen's MatX reallocates on every change of size.
-// The view's contents are unspecified until written.
+// The view's contents are unspecified until written, except that storage is grown with
+// zeros (std::vector::resize) and keeps what was written (zeroed_columns.hpp relies on both).
 #include <vector>
 
 #include "engine/core/types.hpp"
@@ -17,6 +18,8 @@ class ScratchMatrix {
     return Eigen::Map<MatX>(m_storage.data(), rows, cols);
   }
   Eigen::Map<VecX> vector(Eigen::Index size) { return Eigen::Map<VecX>(view(size, 1).data(), size); }
+  // The storage as it is (no growth).
+  double* data() { return m_storage.data(); }
 
  private:
   std::vector<double> m_storage;

@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -428,4 +429,40 @@ TEST_CASE("row_column_cache: partial columns, right on the stencils seen so far,
   cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>*) { X = p.llt.solve(B); },
                 columns, kBudget, false);
   CHECK(cache.complete());
+}
+
+TEST_CASE("row_column_cache: a solver given B's pattern returns the columns of one that scans B") {
+  // A supernodal factor (LinearSolver reads B only at the pattern's rows), through the
+  // cache's four-argument call, against the three-argument one: the same bits.
+  const SceneDesc scene = parse_scene_text(R"({"h": 0.0166667, "bodies": [{"name": "block",
+      "shape": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}], "cell_size": 0.1,
+      "material": {"E": 1e6, "nu": 0.3, "rho": 1000}}]})", "block", ".");  // 1,331 nodes
+  World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
+  REQUIRE(world.step());
+  State& state = world.mutable_state();
+  const Model& model = world.model();
+  RowTable rows;
+  for (int i = 0; i < 12; ++i) {
+    rows.add_row(RowKind::Contact, 0, 0, 1e300, 500 + i);
+    for (int k = 0; k < 3; ++k) rows.add_entry((7 * i + 5 * k) % model.num_nodes, Vec3(1.0 + k, -0.5, 0.25 * i));
+  }
+  LinearSolver solver(model.solver);
+  REQUIRE(factorize_step_system(model, solver, state));
+  REQUIRE(solver.honours_wanted_rows());  // supernodal: the pattern is what B is read through
+  const int dofs = 3 * model.num_free;
+  RowColumnCache scanning, patterned;
+  std::vector<const double*> a, b;
+  int patterns = 0;
+  scanning.columns(rows, model.free_index, dofs, [&](const auto& B, auto& X, const std::vector<int>* wanted) {
+    solver.solve_many(B, X, wanted);
+  }, a);
+  patterned.columns(rows, model.free_index, dofs,
+                    [&](const auto& B, auto& X, const std::vector<int>* wanted, const ZeroedColumns::Pattern* pattern) {
+                      ++patterns;
+                      const LinearSolver::ColumnPattern columns{pattern->start.data(), pattern->rows.data()};
+                      solver.solve_many(B, X, wanted, &columns);
+                    },
+                    b);
+  CHECK(patterns == 1);
+  for (int i = 0; i < rows.size(); ++i) CHECK(std::memcmp(a[i], b[i], sizeof(double) * dofs) == 0);
 }

@@ -2,7 +2,9 @@
 // the next view, whatever its shape, starts from zeros without being zeroed.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 #include "engine/core/zeroed_columns.hpp"
 
@@ -36,4 +38,22 @@ TEST_CASE("zeroed_columns: a scope left by an exception clears what it set") {
   } catch (const std::runtime_error&) {
   }
   CHECK(columns.view(3, 3).isZero(0));
+}
+
+TEST_CASE("zeroed_columns: the pattern lists each column's recorded rows, in any recording order") {
+  ZeroedColumns columns;
+  Eigen::Map<MatX> B = columns.view(5, 4);
+  const ZeroedColumns::ClearOnExit clear{columns};
+  columns.set(B, 4, 2, 1.0);
+  columns.set(B, 0, 0, 1.0);
+  columns.add(B, 3, 2, 1.0);
+  columns.add(B, 3, 2, 1.0);  // the same entry twice: listed twice
+  // column 1 and column 3: nothing recorded
+  const ZeroedColumns::Pattern& p = columns.pattern(4);
+  CHECK(p.start == std::vector<int>{0, 1, 1, 4, 4});
+  CHECK(p.rows[0] == 0);
+  std::vector<int> column2(p.rows.begin() + 1, p.rows.begin() + 4);
+  std::sort(column2.begin(), column2.end());
+  CHECK(column2 == std::vector<int>{3, 3, 4});
+  CHECK_THROWS_AS(columns.pattern(2), std::logic_error);  // column 2 is beyond two columns
 }
