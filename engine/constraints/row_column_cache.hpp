@@ -18,7 +18,6 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
-#include <type_traits>
 #include <vector>
 
 #include "engine/constraints/row_table.hpp"
@@ -34,9 +33,9 @@ class RowColumnCache {
   void reset();
 
   // Points columns[i] at y_i (3 free-DOF values) for every row of `rows`: kept, or solved by
-  // one call `solve_many(B, X, wanted)` (X = H^-1 B, X given with B's size; `wanted` as
-  // below), or `solve_many(B, X, wanted, pattern)` when it takes B's ZeroedColumns::Pattern
-  // (where each column's few non-zeros lie), for all the rows without one. `free_index[n]` is the free index of global node n
+  // one call `solve_many(B, X, wanted, pattern)` (X = H^-1 B, X given with B's size; `wanted`
+  // as below; `pattern`, B's ZeroedColumns::Pattern, where each column's few non-zeros lie)
+  // for all the rows without one. `free_index[n]` is the free index of global node n
   // or -1. The pointers hold until the next call or reset(). Returns the columns solved (3
   // per new node). Node columns are whole columns unless `partial`, unlike TouchedInverse's
   // G, which keeps only the touched nodes' rows.
@@ -212,13 +211,7 @@ void RowColumnCache::solve_missing(const RowTable& rows, const std::vector<int>&
     want_stencils(rows, free_index, free_dofs);
     generation = ++m_generation;
   }
-  const std::vector<int>* wanted = partial ? &m_wanted : nullptr;
-  // Solvers that take it get B's pattern: a few non-zeros a column, read there only.
-  if constexpr (std::is_invocable_v<SolveMany&, Eigen::Map<MatX>&, Eigen::Map<MatX>&, const std::vector<int>*,
-                                    const ZeroedColumns::Pattern*>)
-    solve_many(B, X, wanted, &m_B.pattern(solved));
-  else
-    solve_many(B, X, wanted);
+  solve_many(B, X, partial ? &m_wanted : nullptr, &m_B.pattern(solved));
   for (const int i : m_missing) m_generations[i] = generation;
   if (node_count > 0) {  // only on the first call after reset(): nothing held yet
     m_node_generation = generation;

@@ -7,7 +7,6 @@
 // their friction rows all share node columns. Columns are kept for the life of one
 // factorisation of H, whatever the rows' Jacobians do across SQP iterations; a node
 // touched for the first time costs 3 solves.
-#include <type_traits>
 #include <vector>
 
 #include "engine/core/scratch_matrix.hpp"
@@ -29,8 +28,8 @@ class TouchedInverse {
   // Adds the free nodes of `nodes` (free indices, any order, repeats allowed) that have no
   // columns yet; `solve_many(B, X, rows)` must compute X = H^-1 B (X given with B's size, a
   // map onto kept storage) at least on `rows` (the touched nodes' DOFs, the only rows G
-  // reads: LinearSolver::solve_many's wanted rows); given `solve_many(B, X, rows, pattern)`
-  // when it takes B's ZeroedColumns::Pattern (each column's one non-zero). Returns the
+  // reads: LinearSolver::solve_many's wanted rows), called as `solve_many(B, X, rows,
+  // pattern)` with B's ZeroedColumns::Pattern (each column's one non-zero). Returns the
   // columns solved.
   template <typename SolveMany>
   int require(const std::vector<int>& nodes, SolveMany&& solve_many);
@@ -73,12 +72,7 @@ int TouchedInverse::require(const std::vector<int>& nodes, SolveMany&& solve_man
   for (const std::vector<int>* list : {&m_nodes, &m_added})
     for (const int f : *list)
       for (int d = 0; d < 3; ++d) m_rows.push_back(3 * f + d);
-  // Solvers that take it get B's pattern: a node's unit vectors, read there only.
-  if constexpr (std::is_invocable_v<SolveMany&, Eigen::Map<MatX>&, Eigen::Map<MatX>&, const std::vector<int>&,
-                                    const ZeroedColumns::Pattern*>)
-    solve_many(B, X, m_rows, &m_B.pattern(columns));
-  else
-    solve_many(B, X, m_rows);
+  solve_many(B, X, m_rows, &m_B.pattern(columns));
   add_columns(m_added, X);
   return columns;
 }

@@ -7,18 +7,25 @@ namespace sinew {
 
 namespace {
 
-// Omega_U, Omega_V from A = U^T dF V, pair by pair (header: the 2x2 system and its clamp).
+// The pair (k, l)'s 2x2 system (header: its solution and clamp): a = Omega_U(k, l) and
+// b = Omega_V(k, l) from A_kl and A_lk.
+void solve_pair(const Vec3& S, int k, int l, double A_kl, double A_lk, double eps, double& a, double& b) {
+  const double diff = std::min(S(l) - S(k), -eps);
+  const double sum = std::max(S(l) + S(k), eps);
+  const double sym = 0.5 * (A_kl + A_lk);
+  const double skew = 0.5 * (A_kl - A_lk);
+  a = sym / diff + skew / sum;
+  b = sym / diff - skew / sum;
+}
+
+// Omega_U, Omega_V from A = U^T dF V, pair by pair.
 void solve_omegas(const Vec3& S, const Mat3& A, double eps, Mat3& omega_U, Mat3& omega_V) {
   omega_U.setZero();
   omega_V.setZero();
   for (int k = 0; k < 3; ++k)
     for (int l = k + 1; l < 3; ++l) {
-      const double diff = std::min(S(l) - S(k), -eps);
-      const double sum = std::max(S(l) + S(k), eps);
-      const double sym = 0.5 * (A(k, l) + A(l, k));
-      const double skew = 0.5 * (A(k, l) - A(l, k));
-      const double a = sym / diff + skew / sum;
-      const double b = sym / diff - skew / sum;
+      double a, b;
+      solve_pair(S, k, l, A(k, l), A(l, k), eps, a, b);
       omega_U(k, l) = a;
       omega_U(l, k) = -a;
       omega_V(k, l) = b;
@@ -66,12 +73,10 @@ SvdRotationDerivative compute_svd_rotation_derivative(const RotationVariantSvd& 
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
       for (int p = 0; p < 3; ++p) {
-        // solve_omegas' b for the pair, with A = (row r of U)^T (row c of V).
+        // The pair's b, with A = (row r of U)^T (row c of V).
         const int k = kPairs[p][0], l = kPairs[p][1];
-        const double A_kl = svd.U(r, k) * svd.V(c, l), A_lk = svd.U(r, l) * svd.V(c, k);
-        const double diff = std::min(svd.S(l) - svd.S(k), -eps);
-        const double sum = std::max(svd.S(l) + svd.S(k), eps);
-        d.omega_V[r][c](p) = 0.5 * (A_kl + A_lk) / diff - 0.5 * (A_kl - A_lk) / sum;
+        double a;
+        solve_pair(svd.S, k, l, svd.U(r, k) * svd.V(c, l), svd.U(r, l) * svd.V(c, k), eps, a, d.omega_V[r][c](p));
       }
   return d;
 }

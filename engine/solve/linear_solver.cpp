@@ -189,7 +189,7 @@ void LinearSolver::prepare_block_workspaces(int rows) {
 namespace {
 SupernodalBlockSolve::ColumnRows column_rows(const LinearSolver::ColumnPattern* pattern, int c) {
   if (!pattern) return {};
-  return {pattern->rows + pattern->start[c], pattern->start[c + 1] - pattern->start[c]};
+  return {pattern->rows.data() + pattern->start[c], pattern->start[c + 1] - pattern->start[c]};
 }
 }  // namespace
 

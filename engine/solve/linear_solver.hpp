@@ -9,6 +9,7 @@
 
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/core/types.hpp"
+#include "engine/core/zeroed_columns.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/solve/cholmod_memory_pool.hpp"
 #include "engine/solve/supernodal_block_solve.hpp"
@@ -44,13 +45,10 @@ class LinearSolver {
   // With `wanted_rows` (rows of X, any order), X needs to be right on those rows only: the
   // supernodal block solves then skip the backward pass below them (X is exact there, bit
   // for bit as without, and zero on the rows the pass skipped); other paths solve in full.
-  // With `pattern` (column c's nonzeros lie in rows pattern->rows[pattern->start[c] ..
-  // pattern->start[c + 1])), B's columns are read there only (supernodal block solves:
-  // right-hand sides of a few non-zeros among thousands of rows).
-  struct ColumnPattern {
-    const int* start = nullptr;
-    const int* rows = nullptr;
-  };
+  // With `pattern` (zeroed_columns.hpp: column c's nonzeros lie in rows
+  // pattern->rows[pattern->start[c] .. pattern->start[c + 1])), B's columns are read there
+  // only (supernodal block solves: right-hand sides of a few non-zeros among thousands of rows).
+  using ColumnPattern = ZeroedColumns::Pattern;
   void solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> X, const std::vector<int>* wanted_rows = nullptr,
                   const ColumnPattern* pattern = nullptr);
   // The same, resizing X.

@@ -171,10 +171,8 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
     if (const int f = model.free_index[node]; f >= 0 && s.touched_inverse.local(f) < 0) touched.push_back(f);
   std::sort(touched.begin(), touched.end());
   touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-  const auto solve_many = [&](const auto& B, auto& X, const std::vector<int>* wanted, const ZeroedColumns::Pattern* pattern) {
-    const LinearSolver::ColumnPattern columns{pattern->start.data(), pattern->rows.data()};
-    solver.solve_many(B, X, wanted, &columns);
-  };
+  const auto solve_many = [&](const auto& B, auto& X, const std::vector<int>* wanted,
+                              const LinearSolver::ColumnPattern* pattern) { solver.solve_many(B, X, wanted, pattern); };
   if (3 * static_cast<int>(touched.size()) > m) {
     // Energy rows from node columns when a CHOLMOD factorisation serves several steps (PCG
     // keeps no factor: its columns would be solved again every step, and only to its
@@ -198,9 +196,8 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
   if (s.touched_inverse.size() == 0) s.touched_inverse_step = s.step_count;
   approximate = s.touched_inverse.stale();
   const int solved = s.touched_inverse.require(
-      touched, [&](const auto& B, auto& X, const std::vector<int>& rows, const ZeroedColumns::Pattern* pattern) {
-        const LinearSolver::ColumnPattern columns{pattern->start.data(), pattern->rows.data()};
-        solver.solve_many(B, X, &rows, &columns);
+      touched, [&](const auto& B, auto& X, const std::vector<int>& rows, const LinearSolver::ColumnPattern* pattern) {
+        solver.solve_many(B, X, &rows, pattern);
       });
   s.local_node.resize(model.num_nodes);
   for (int n = 0; n < model.num_nodes; ++n) {

@@ -64,7 +64,7 @@ TouchedInverse touched_inverse(const Problem& p, const Eigen::LLT<MatX>& llt, st
   for (const int n : p.rows.nodes) free_nodes.push_back(p.free_index[n]);
   // X right on the wanted rows only, as LinearSolver::solve_many promises: any other row G
   // read would spoil the comparisons with J H^-1 J^T below.
-  const auto solve = [&](const auto& B, auto& X, const std::vector<int>& rows) {
+  const auto solve = [&](const auto& B, auto& X, const std::vector<int>& rows, const ZeroedColumns::Pattern*) {
     const MatX full = llt.solve(B);
     X.setConstant(std::numeric_limits<double>::quiet_NaN());
     for (const int r : rows) X.row(r) = full.row(r);

@@ -52,7 +52,7 @@ struct Fixture {
     return J;
   }
   int fill(RowColumnCache& cache, std::vector<const double*>& columns, int node_budget = 0) {
-    return cache.columns(rows, free_index, dofs(), [this](const auto& B, auto& X, const std::vector<int>*) {
+    return cache.columns(rows, free_index, dofs(), [this](const auto& B, auto& X, const std::vector<int>*, const ZeroedColumns::Pattern*) {
       solves += static_cast<int>(B.cols());
       X = llt.solve(B);
     }, columns, node_budget);
@@ -147,7 +147,7 @@ TEST_CASE("row_column_cache: a new factorisation of the step system empties the 
   REQUIRE(factorize_step_system(world.model(), solver, state));
   std::vector<const double*> columns;
   const int dofs = 3 * world.model().num_free;
-  state.row_columns.columns(rows, world.model().free_index, dofs, [&](const auto& B, auto& X, const std::vector<int>*) { solver.solve_many(B, X); },
+  state.row_columns.columns(rows, world.model().free_index, dofs, [&](const auto& B, auto& X, const std::vector<int>*, const ZeroedColumns::Pattern*) { solver.solve_many(B, X); },
                             columns);
   REQUIRE(state.row_columns.size() == 1);
   REQUIRE(factorize_step_system(world.model(), solver, state));
@@ -364,7 +364,7 @@ TEST_CASE("row_column_cache: partial columns, right on the stencils seen so far,
   // A partial solve: X right on the wanted rows only, NaN elsewhere, so that any read of a
   // column off the stencils it was solved for shows in W.
   std::vector<int> wanted_seen;
-  const auto partial_solve = [&](const auto& B, auto& X, const std::vector<int>* wanted) {
+  const auto partial_solve = [&](const auto& B, auto& X, const std::vector<int>* wanted, const ZeroedColumns::Pattern*) {
     REQUIRE(wanted);
     wanted_seen = *wanted;
     const MatX full = p.llt.solve(B);
@@ -410,12 +410,12 @@ TEST_CASE("row_column_cache: partial columns, right on the stencils seen so far,
   // caller takes Y beyond W (solve_constraints' whole_columns).
   CHECK(cache.repeats_last_call(p.rows));
   CHECK_FALSE(cache.complete());
-  CHECK(cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto&, auto&, const std::vector<int>*) { FAIL("nothing to solve"); },
+  CHECK(cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto&, auto&, const std::vector<int>*, const ZeroedColumns::Pattern*) { FAIL("nothing to solve"); },
                       columns, kBudget, false) == 0);
   CHECK_FALSE(cache.complete());
   // A whole solve (partial = false) of a changed row: complete columns beside partial ones.
   p.rows.jac[p.rows.begin[15]] *= 2;
-  cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>* wanted) {
+  cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>* wanted, const ZeroedColumns::Pattern*) {
     CHECK(wanted == nullptr);
     X = p.llt.solve(B);
   }, columns, kBudget, false);
@@ -426,14 +426,14 @@ TEST_CASE("row_column_cache: partial columns, right on the stencils seen so far,
   CHECK((W.matrix() - W3).lpNorm<Eigen::Infinity>() < 1e-12 * W3.lpNorm<Eigen::Infinity>());
   // After a factorisation, whole columns throughout: complete.
   cache.reset();
-  cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>*) { X = p.llt.solve(B); },
+  cache.columns(p.rows, p.free_index, p.dofs(), [&](const auto& B, auto& X, const std::vector<int>*, const ZeroedColumns::Pattern*) { X = p.llt.solve(B); },
                 columns, kBudget, false);
   CHECK(cache.complete());
 }
 
 TEST_CASE("row_column_cache: a solver given B's pattern returns the columns of one that scans B") {
   // A supernodal factor (LinearSolver reads B only at the pattern's rows), through the
-  // cache's four-argument call, against the three-argument one: the same bits.
+  // solver that reads the pattern the cache passes, against one that ignores it: the same bits.
   const SceneDesc scene = parse_scene_text(R"({"h": 0.0166667, "bodies": [{"name": "block",
       "shape": [{"type": "box", "half_extents": [0.5, 0.5, 0.5]}], "cell_size": 0.1,
       "material": {"E": 1e6, "nu": 0.3, "rho": 1000}}]})", "block", ".");  // 1,331 nodes
@@ -453,14 +453,14 @@ TEST_CASE("row_column_cache: a solver given B's pattern returns the columns of o
   RowColumnCache scanning, patterned;
   std::vector<const double*> a, b;
   int patterns = 0;
-  scanning.columns(rows, model.free_index, dofs, [&](const auto& B, auto& X, const std::vector<int>* wanted) {
+  scanning.columns(rows, model.free_index, dofs, [&](const auto& B, auto& X, const std::vector<int>* wanted,
+                                                    const ZeroedColumns::Pattern*) {
     solver.solve_many(B, X, wanted);
   }, a);
   patterned.columns(rows, model.free_index, dofs,
                     [&](const auto& B, auto& X, const std::vector<int>* wanted, const ZeroedColumns::Pattern* pattern) {
                       ++patterns;
-                      const LinearSolver::ColumnPattern columns{pattern->start.data(), pattern->rows.data()};
-                      solver.solve_many(B, X, wanted, &columns);
+                      solver.solve_many(B, X, wanted, pattern);
                     },
                     b);
   CHECK(patterns == 1);

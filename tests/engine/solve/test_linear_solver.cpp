@@ -143,7 +143,7 @@ TEST_CASE("linear_solver: solve_many reading B through its column pattern gives 
     rows.push_back(rows[start.back()]);  // and a row named twice
     start.push_back(static_cast<int>(rows.size()));
   }
-  const LinearSolver::ColumnPattern pattern{start.data(), rows.data()};
+  const LinearSolver::ColumnPattern pattern{start, rows};
   const std::vector<int>* wanted_cases[] = {nullptr, &wanted};
   for (const std::vector<int>* w : wanted_cases) {
     MatX scanned(n, cols), patterned(n, cols);
@@ -155,7 +155,7 @@ TEST_CASE("linear_solver: solve_many reading B through its column pattern gives 
   // solves as if it were zero.
   std::vector<int> short_rows = rows;
   short_rows[0] = short_rows[start[1] - 1] = short_rows[3];  // r0 and its repeat named r3
-  const LinearSolver::ColumnPattern short_pattern{start.data(), short_rows.data()};
+  const LinearSolver::ColumnPattern short_pattern{start, short_rows};
   MatX full(n, cols), partial(n, cols);
   solver.solve_many(B, full);
   solver.solve_many(B, partial, nullptr, &short_pattern);

@@ -144,7 +144,7 @@ TEST_CASE("unmoved rotations: a kept factorisation drops a G kept from an earlie
   const auto plant = [&](long age) {
     State& s = w.mutable_state();
     s.touched_inverse.reset(w.model().num_free);
-    s.touched_inverse.require(std::vector<int>{0, 1}, [](const auto&, auto& X, const std::vector<int>&) { X.setZero(); });
+    s.touched_inverse.require(std::vector<int>{0, 1}, [](const auto&, auto& X, const std::vector<int>&, const ZeroedColumns::Pattern*) { X.setZero(); });
     s.touched_inverse.keep_stale();
     s.touched_inverse_step = s.step_count - age;
   };
