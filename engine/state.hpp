@@ -45,7 +45,7 @@ struct StepScratch {
   KeptStorage<BodyContactRowBuffers> body_contact_row_buffers;
   // solve_newton's
   SparseMatrix newton_A0, newton_H;
-  VecX newton_x0, newton_b0, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
+  VecX newton_x0, newton_b0, newton_predicted_impulse, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
       negative_gradient;
   std::vector<double> psi, psi_trial, force2, body_stiffness;
 };
@@ -67,6 +67,10 @@ struct State {
   RowTable rows;                     // constraint rows of the last SQP iteration (constraints)
   EnergyScreen energy_screen;        // energy limits: each element's last exact evaluation (skips far ones)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
+  VecX constraint_impulse;           // 3 * nodes: J^T lambda of the last step's last QP (constraints),
+                                     // the next Newton solve's predictor; storage kept (no allocation)
+  bool has_constraint_impulse = false;  // the last step solved a QP with rows: constraint_impulse holds
+  bool impulse_predicted = false;    // this step's Newton solve included it (solve_newton)
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
   long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset
   Delassus delassus;                 // W = J H^-1 J^T of the current SQP iteration (constraints)

@@ -124,6 +124,7 @@ void World::forget_previous_step() {
   s.factor_rotations.clear();
   s.touched_inverse.reset(stage_model().num_free);  // H^-1 kept from earlier steps (delassus_reuse)
   s.warm_start.clear();
+  s.has_constraint_impulse = false;
   s.curvature.clear();
   s.curvature_blocks.clear();
   s.curvature_pending = false;

@@ -169,6 +169,10 @@ struct SolverDesc {
   // (each QP's step made A-conjugate to the last, taken to the Lagrangian's minimiser along
   // it), or "none" (the QP's step as it is).
   std::string sqp_acceleration = "conjugate";
+  // Hyperelastic bodies: "impulse" adds the last step's constraint impulse J^T lambda to
+  // Newton's objective as a fixed force, so that Newton solves for the body as it was held
+  // and the SQP corrects only the change of lambda; "none": Newton without it.
+  std::string newton_predictor = "impulse";
   // "shared": SQP iterations after the first take the Newton step and the correction in one
   // solve where W came from the rows' own columns and that is cheaper; "separate": two.
   std::string sqp_solves = "shared";

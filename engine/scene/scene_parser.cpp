@@ -656,6 +656,7 @@ SolverDesc parse_solver(const Object& o) {
   o.number("sqp_stall_tolerance", s.sqp_stall_tolerance, kNonNegative);
   o.choice("sqp_acceleration", s.sqp_acceleration, {"conjugate", "none"});
   o.choice("sqp_solves", s.sqp_solves, {"shared", "separate"});
+  o.choice("newton_predictor", s.newton_predictor, {"impulse", "none"});
   o.integer("refactor_interval", s.refactor_interval, kPositive);
   o.integer("delassus_reuse", s.delassus_reuse, kPositive);
   o.number("activation_margin", s.activation_margin, kFraction);
@@ -676,7 +677,7 @@ SolverDesc parse_solver(const Object& o) {
 const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_iterations",
                              "pgs_max_iterations", "pgs_tolerance", "pgs_subspace_interval", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
-                             "contact_margin", "body_friction", "sqp_position_tolerance", "sqp_stall_tolerance", "sqp_acceleration", "sqp_solves",
+                             "contact_margin", "body_friction", "sqp_position_tolerance", "sqp_stall_tolerance", "sqp_acceleration", "sqp_solves", "newton_predictor",
                              "refactor_interval", "delassus_reuse", "max_speed", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
                              "newton_tolerance", "sleep_speed", "sleep_acceleration", "sleep_steps"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",

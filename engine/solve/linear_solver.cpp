@@ -111,9 +111,9 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
 }
 
 int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance,
-                                      int max_iterations) {
+                                      int max_iterations, double scale) {
   VecX &r = m_residual, &z = m_preconditioned, &p = m_search, &q = m_product;
-  const double target = tolerance * b.norm();
+  const double target = tolerance * std::max(b.norm(), scale);
   x.setZero(b.size());
   r = b;
   if (r.norm() <= target) return 0;

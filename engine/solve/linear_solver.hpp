@@ -29,9 +29,10 @@ class LinearSolver {
   int solve(const VecX& b, VecX& x);
   // CHOLMOD only: solves A x = b, A full symmetric (both triangles) and not the matrix last
   // factorised, by conjugate gradients preconditioned with that factorisation, from x = 0
-  // until |b - A x| <= tolerance |b|. Returns the iterations, or -1 when max_iterations
-  // were not enough or A showed no positive curvature along a search direction.
-  int solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations);
+  // until |b - A x| <= tolerance max(|b|, scale). Returns the iterations, or -1 when
+  // max_iterations were not enough or A showed no positive curvature along a search direction.
+  int solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations,
+                           double scale = 0);
   // Solves A X = B column by column, into X of B's size. CHOLMOD: blocks of columns solved
   // in parallel (one task per workspace, blocks dealt round robin), the split fixed by the
   // column count alone (X is bit-identical for any number of threads). Simplicial factors:

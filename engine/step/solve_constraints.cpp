@@ -263,7 +263,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // Except just after the last constraint went (a grab released): with an older
   // factorisation and v* far from v0 the loop refines v* by Newton iterations on A from v0
   // (linearise_at_start), and clears what the constraints left (warm start, curvature).
-  if (!constrained && (s.factor_exact || s.warm_start.empty())) {
+  if (!constrained && (s.factor_exact || s.warm_start.empty()) && !s.impulse_predicted) {
+    s.has_constraint_impulse = false;
     skip_qp_stages(profile, "nothing to solve");
     profile.skipped[static_cast<int>(Stage::Rows)] = "scene has one body, no obstacles, no energy or strain limits";
     return;
@@ -271,6 +272,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const SolverDesc& cfg = model.solver;
   const double h = model.h;
   StepScratch& sc = s.scratch;
+  const bool predicted = s.impulse_predicted;
+  s.impulse_predicted = false;
+  bool impulse_valid = false;
   const VecX& x0 = s.x;           // unchanged here (integrate_positions comes after)
   const VecX& v_star = s.v_free;  // the Newton step of solve_velocity (or solve_newton's result);
                                   // written only once SQP is done
@@ -357,7 +361,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // v* meets every row: it ends the step with an exact factorisation, and with an older one
     // when there are no rows at all (the QP from v* would be the step d = 0).
     const bool no_rows = s.rows.size() == 0;
-    if (k == 0 && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
+    if (k == 0 && !predicted && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
       converged = true;
       break;
@@ -373,14 +377,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     // The fallback: the last iterate within the tolerances, or, while none has been, the
     // least violated QP solution (not v*, which leaves the constraints out).
-    if (worst <= 1 && !skip_v_star) {  // v0 is no candidate: it solves no QP
+    if (worst <= 1 && !skip_v_star && !(k == 0 && predicted)) {  // v0, v* with a predictor: no QP solution
       sc.sqp_feasible = v_free;
       have_feasible = true;
     } else if (k > 0 && !have_feasible && worst < least_violation) {
       sc.sqp_feasible = v_free;
       least_violation = worst;
     }
-    if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp)) {
+    if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp) && !(k == 0 && predicted)) {
       // The merit weighs small violations lightly (and does not fall at every iteration: a
       // last half is taken regardless, a non-descent step whole), so the last iterate may be
       // over a tolerance that an earlier one met (the tip-pressed finger), or, where the
@@ -403,9 +407,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     const int m = s.rows.size();
     ++sqp;
+    impulse_valid = false;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
-    VecX& v_base = sc.v_base = k == 0 ? v_star : v_free;
+    VecX& v_base = sc.v_base = k == 0 && !predicted ? v_star : v_free;
     {
       StageTimer timer(profile, Stage::SqpFactorize);
       // Stalled: a kept H^-1 (delassus_reuse) converges too slowly, recompute it; else the
@@ -432,17 +437,21 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     bool per_row = false;
     if (m > 0) solved_columns += factor_delassus(model, solver, s, approximate, per_row, columns_cheaper);
     const bool whole_columns = per_row && columns_cheaper && s.row_columns.complete();
-    const bool one_solve = k > 0 && whole_columns;
+    const bool one_solve = (k > 0 || predicted) && whole_columns;
     // With an approximate W (a kept G), W lambda_0 costs a solve, and so does the Newton
     // step H^-1 r; the LCP needs only J H^-1 (r + J^T lambda_0) of them, one solve, and
     // v_k+1 = v_k + H^-1 (r + J^T lambda) follows the LCP: two solves per iteration, not three.
     const Eigen::Map<const VecX> lambda0(s.rows.lambda.data(), m);
     const bool correct = m > 0 && approximate && !lambda0.isZero(0);
-    const bool fused = k > 0 && !one_solve && correct && shared_solves_on;
-    if (k > 0) {
+    const bool fused = (k > 0 || predicted) && !one_solve && correct && shared_solves_on;
+    if (k == 0 && predicted) {
+      multiply_step_system(model, s, v_free, sc.residual);
+      sc.residual = s.rhs - sc.residual;
+    }
+    if (k > 0 || predicted) {
       // b - A v_k from b - A v_k-1, as v_k = v_k-1 + alpha d and the merit kept A d: one
       // product with A per iteration fewer (the creature: 1950 DOFs, 108k entries, 0.035 ms each).
-      sc.residual.noalias() -= alpha * sc.sqp_product;
+      if (k > 0) sc.residual.noalias() -= alpha * sc.sqp_product;
       if (!one_solve && !fused) {
         sc.step.setZero(v_free.size());
         solver.solve(sc.residual, sc.step);
@@ -495,6 +504,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       }
       StageTimer timer(profile, Stage::SqpSolve);
       apply_jacobian_transpose(model, s.rows, sc.impulse);
+      impulse_valid = true;
       sc.correction.setZero(v_free.size());
       if (one_solve || fused) {
         sc.dv = sc.residual + sc.impulse;
@@ -531,7 +541,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       // b - A v0 is stage 1's (assemble_system's element pass): one column fewer.
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
       sc.residual = s.start_residual;
-    } else if (k == 0) {  // k > 0: sc.residual = b - A v_k already (updated above)
+    } else if (k == 0 && !predicted) {  // else sc.residual = b - A v_k already (above)
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
     } else {
@@ -628,6 +638,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     s.curvature_pending = true;
   }
   s.v_free = v_free;
+  s.has_constraint_impulse = impulse_valid;
+  if (impulse_valid) {
+    s.constraint_impulse.resize(3 * model.num_nodes);
+    scatter_free(model, sc.impulse, s.constraint_impulse);
+  }
   if (sqp == 0) {
     skip_qp_stages(profile, s.rows.size() ? "no row violated" : "no near-active constraint");
     s.warm_start.clear();

@@ -136,6 +136,20 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const VecX& x0 = scratch.newton_x0 = state.x;
   const SparseMatrix& A0 = scratch.newton_A0 = state.system;
   const VecX& b0 = scratch.newton_b0 = state.rhs;
+  // Predictor (solver.newton_predictor "impulse"): the last step's constraint impulse
+  // J^T lambda joins b0 as a fixed force, so Newton minimises the Lagrangian at the last
+  // multipliers, Phi(v) - (J^T lambda)^T v: a body resting on the ground is solved as held
+  // there, not falling through it. solve_constraints then starts from the true model's
+  // residual (it is not zero at this v) and its QP finds the whole lambda, so the force
+  // stays only where the QP keeps it. Without it, a step that held a body took three QPs
+  // against an older factorisation: one for the impulse Newton left out, two for that
+  // factor's error on it (the bunny_5 drop at rest; docs/ARCHITECTURE.md, stage 2-3').
+  VecX& predicted = scratch.newton_predicted_impulse;
+  state.impulse_predicted = cfg.newton_predictor == "impulse" && state.has_constraint_impulse && !state.warm_start.empty();
+  if (state.impulse_predicted) {
+    gather_free(model, state.constraint_impulse, predicted);
+    scratch.newton_b0 += predicted;
+  }
   const double noise = energy_noise(model, scratch.body_stiffness);
   long hyperelastic_elements = 0;  // evaluated per assembly and per line-search trial (StepWork)
   for (int e = 0; e < model.num_elements; ++e) hyperelastic_elements += is_hyperelastic(model, e);
@@ -252,10 +266,13 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         {
           StageTimer timer(state.profile, Stage::Solve);
           // Past this many iterations a factorisation is cheaper (one costs 20-70 solves on
-          // the meshes of sinew_bench_hyperelastic).
+          // the meshes of sinew_bench_hyperelastic). The tolerance is relative to the step's
+          // scale (first_norm), not to this gradient alone: a body at rest has a tiny net
+          // gradient, and 1e-8 of it asked for more CG iterations than Newton's own
+          // tolerance (1e-6 of the scale) could ever use.
           constexpr int kPreconditionedCap = 12;
           iterations = solver.solve_preconditioned(H, scratch.negative_gradient, direction, cfg.pcg_tolerance,
-                                                   kPreconditionedCap);
+                                                   kPreconditionedCap, first_norm);
         }
         // Too slow or no descent: this H is far from the factorised one; factorise it.
         if (iterations < 0) usable = factorize(false);
@@ -322,6 +339,8 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   if (ok) {
     multiply_system(state.system, v, state.rhs);
     state.rhs -= gradient;
+    if (state.impulse_predicted) state.rhs -= predicted;  // the model of Phi itself: its gradient at v is
+                                                          // H v - rhs = grad Phi, not the Lagrangian's
     state.v_free = v;
     for (int n = 0; n < model.num_nodes; ++n) {
       const int f = model.free_index[n];
@@ -337,6 +356,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   state.profile.iterations["newton"] += newton;
   if (exact_steps) state.profile.iterations["newton_exact"] += exact_steps;
   if (preconditioned_iterations) state.profile.iterations["newton_pcg"] += preconditioned_iterations;
+  // Reported on every Newton step, 0 included: a name first met in a warm step would
+  // allocate (profile_map.hpp).
+  state.profile.iterations["newton_predicted"] += state.impulse_predicted ? 1 : 0;
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += linear;
   return ok;
 }

@@ -117,7 +117,8 @@ TEST_CASE("allocation counter: it sees malloc, new and Eigen") {
 TEST_CASE("a warm step allocates nothing, on 2 threads and on 1") {
   // Every kind of step: energy limits with contact (creature, sphere), energy limits alone
   // (beam), strain limits with a kinematic press (finger) and alone (beam), collapse, two
-  // bodies in contact (the default demo), Newton on Stable Neo-Hookean. Warm-ups long
+  // bodies in contact (the default demo), Newton on Stable Neo-Hookean, alone and with contact
+  // (the Newton predictor, CG preconditioned by an older factor). Warm-ups long
   // enough for each scene's rows to reach the sizes of the window.
   const Window windows[] = {{"default", 40, 20, false},
                             {"paper000_beam_150kPa_U0.5", 60, 30, true},
@@ -126,7 +127,8 @@ TEST_CASE("a warm step allocates nothing, on 2 threads and on 1") {
                             {"paper000_creature_500kPa_U100", 120, 30, true},
                             {"paper001_finger_flat_anisotropic", 90, 20, false},
                             {"paper001_beam_5kPa_isotropic", 60, 20, true},
-                            {"paper003_elbow_snh", 60, 20, false}};
+                            {"paper003_elbow_snh", 60, 20, false},
+                            {"contact_snh_box_on_plane", 60, 30, true}};
   for (const int threads : {2, 1}) {
     tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
     for (const Window& w : windows) {

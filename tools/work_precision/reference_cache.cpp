@@ -12,7 +12,8 @@ namespace sinew::wp {
 namespace {
 
 // Bump when the file layout or the meaning of a sample changes.
-constexpr uint32_t kFormatVersion = 4;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration; 4: sqp_solves
+constexpr uint32_t kFormatVersion = 5;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration; 4: sqp_solves;
+                                        // 5: newton_predictor
 constexpr char kMagic[8] = {'S', 'W', 'P', 'R', 'E', 'F', '\n', '\0'};
 
 nlohmann::json vec3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
@@ -40,6 +41,7 @@ nlohmann::json run_fingerprint(const SceneDesc& scene, const std::string& scene_
       {"sqp_max_iterations", s.sqp_max_iterations}, {"sqp_tolerance", s.sqp_tolerance},
       {"sqp_position_tolerance", s.sqp_position_tolerance},
       {"sqp_stall_tolerance", s.sqp_stall_tolerance}, {"sqp_acceleration", s.sqp_acceleration}, {"sqp_solves", s.sqp_solves},
+      {"newton_predictor", s.newton_predictor},
       {"refactor_interval", s.refactor_interval},
       {"activation_margin", s.activation_margin}, {"contact_tolerance", s.contact_tolerance},
       {"contact_margin", s.contact_margin}, {"body_friction", s.body_friction}, {"max_speed", s.max_speed},
