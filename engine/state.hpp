@@ -34,7 +34,8 @@ struct StepScratch {
   VecX sqp_from, sqp_direction, sqp_feasible, sqp_product;  // SQP line search: v_k, its step, the last
                                                             // iterate within tolerance, A v
   VecX sqp_previous_direction, sqp_previous_product;  // the last search direction p and A p (conjugate steps)
-  ScratchMatrix per_row;  // m x 3: the LCP's c, J (v_base - v_k) and PGS's residual weights
+  ScratchMatrix per_row;  // m x 6: the LCP's c, J (v_base - v_k), PGS's residual weights, W lambda_0,
+                          // W~ lambda_0 and lambda_0 (solve_constraints)
   std::vector<uint64_t> keep;
   RowTable contact_rows;  // build_rows: contacts, built beside the limits' rows and appended to them
   // The row builders' buffers (kept_storage.hpp): theirs, not thread_local, as build_rows

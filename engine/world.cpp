@@ -24,6 +24,9 @@ World::World(Model model, const std::vector<Vec3>& initial_velocity)
   s.system = m_model.pattern.matrix;
   s.rhs = VecX::Zero(3 * m_model.num_free);
   s.v_free = VecX::Zero(3 * m_model.num_free);
+  // Sized once: a step where contact begins allocates nothing for the Newton predictor.
+  s.constraint_impulse = VecX::Zero(3 * m_model.num_nodes);
+  s.scratch.newton_predicted_impulse = VecX::Zero(3 * m_model.num_free);
   // No factorisation yet: the first step makes one whatever step_count a caller carries
   // over (ui's LiveScene rebuilds keep it), never reusing one it does not have.
   s.factor_age = m_model.solver.refactor_interval;
@@ -47,6 +50,7 @@ void World::apply_sleeping_set() {
   s.system_assembled = false;
   s.rhs = VecX::Zero(3 * model.num_free);
   s.v_free = VecX::Zero(3 * model.num_free);
+  s.scratch.newton_predicted_impulse = VecX::Zero(3 * model.num_free);
   s.factor_age = m_model.solver.refactor_interval;  // no reuse of a factorisation of the old pattern
   s.factor_rotations.clear();
   s.touched_inverse.reset(model.num_free);
@@ -103,6 +107,7 @@ bool World::step() {
       s.factor_age = m_model.solver.refactor_interval;
       s.factor_rotations.clear();
       s.touched_inverse.reset(stage_model().num_free);
+      s.has_constraint_impulse = false;  // an impulse of a sub-step, h / substeps
     }
   } else {
     forget_previous_step();
@@ -125,6 +130,7 @@ void World::forget_previous_step() {
   s.touched_inverse.reset(stage_model().num_free);  // H^-1 kept from earlier steps (delassus_reuse)
   s.warm_start.clear();
   s.has_constraint_impulse = false;
+  s.impulse_predicted = false;
   s.curvature.clear();
   s.curvature_blocks.clear();
   s.curvature_pending = false;
@@ -135,6 +141,7 @@ bool World::attempt_step() {
   const auto start = Clock::now();
   State& s = m_state;
   s.profile.clear();
+  s.impulse_predicted = false;  // solve_newton sets it for this step
   const bool sleeping = m_model.solver.sleep_steps > 0;
   if (sleeping) wake_disturbed_bodies(m_model, s);
   if (sleeping && s.sleep.all()) {

@@ -235,6 +235,9 @@ void settle_curvature(const Model& model, State& s) {
 // each iteration linearises the rows at x_k = x0 + h v_k and solves the QP
 //   H dv = -(A v_k - b) + J^T lambda,   C_k + h J dv >= 0,   lo <= lambda <= hi
 // through the LCP  W lambda + c >= 0 (eq. 23), W = J H^-1 J^T, by PGS; v_k+1 = v_k + dv.
+// After solve_newton's predictor (the last step's J^T lambda added to Newton's objective)
+// v* is not the model's minimiser: the first QP then starts, like later ones, from the
+// model's residual at v*, and runs whatever v* meets.
 // W comes from H^-1 on the touched nodes only (touched_inverse.hpp, delassus.hpp). With
 // solver.delassus_reuse > 1 that H^-1 may be kept from an earlier step's factorisation:
 // the LCP is then solved with that approximate W~ and c + (W - W~) lambda_0 at its warm
@@ -359,7 +362,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     if (searching) last_move = std::min(1.0, alpha / first_alpha) * h * sc.sqp_direction.lpNorm<Eigen::Infinity>();
     searching = false;
     // v* meets every row: it ends the step with an exact factorisation, and with an older one
-    // when there are no rows at all (the QP from v* would be the step d = 0).
+    // when there are no rows at all (the QP from v* would be the step d = 0). Never after the
+    // Newton predictor: v* holds the last step's constraint force, which only a QP may keep.
     const bool no_rows = s.rows.size() == 0;
     if (k == 0 && !predicted && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
@@ -437,12 +441,26 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     bool per_row = false;
     if (m > 0) solved_columns += factor_delassus(model, solver, s, approximate, per_row, columns_cheaper);
     const bool whole_columns = per_row && columns_cheaper && s.row_columns.complete();
-    const bool one_solve = (k > 0 || predicted) && whole_columns;
+    const Eigen::Map<const VecX> lambda0(s.rows.lambda.data(), m);
+    // The first QP after the Newton predictor: when the predictor's force is J^T lambda_0 of
+    // these very rows, bit for bit (contacts on a plane, held at rest), r = -J^T lambda_0 - e
+    // at Newton's result, e Newton's CG residual (below pcg_tolerance of the step's scale), so
+    // v = v_k + H^-1 (r + J^T lambda) = v_k + H^-1 J^T (lambda - lambda_0) - H^-1 e and the LCP
+    // is C/h + W (lambda - lambda_0) >= 0 (e left out of it): c = C/h - W lambda_0 from the W
+    // PGS uses, no solve and no W lambda_0 correction (an approximate W's cancels), then one
+    // solve of r + J^T lambda, or, with whole columns, Y (lambda - lambda_0) and none (e left
+    // to a later iteration's residual). Otherwise the first QP would take one or two solves
+    // more than without the predictor (cube_20 at rest: one QP a step either way).
+    bool predicted_match = false;
+    if (k == 0 && predicted && m > 0) {
+      apply_jacobian_transpose(model, s.rows, sc.impulse);  // lambda_0: the warm start, set above
+      predicted_match = sc.impulse == sc.newton_predicted_impulse;
+    }
+    const bool one_solve = (k > 0 || predicted) && whole_columns && !predicted_match;
     // With an approximate W (a kept G), W lambda_0 costs a solve, and so does the Newton
     // step H^-1 r; the LCP needs only J H^-1 (r + J^T lambda_0) of them, one solve, and
     // v_k+1 = v_k + H^-1 (r + J^T lambda) follows the LCP: two solves per iteration, not three.
-    const Eigen::Map<const VecX> lambda0(s.rows.lambda.data(), m);
-    const bool correct = m > 0 && approximate && !lambda0.isZero(0);
+    const bool correct = m > 0 && approximate && !lambda0.isZero(0) && !predicted_match;
     const bool fused = (k > 0 || predicted) && !one_solve && correct && shared_solves_on;
     if (k == 0 && predicted) {
       multiply_step_system(model, s, v_free, sc.residual);
@@ -452,7 +470,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       // b - A v_k from b - A v_k-1, as v_k = v_k-1 + alpha d and the merit kept A d: one
       // product with A per iteration fewer (the creature: 1950 DOFs, 108k entries, 0.035 ms each).
       if (k > 0) sc.residual.noalias() -= alpha * sc.sqp_product;
-      if (!one_solve && !fused) {
+      if (!one_solve && !fused && !predicted_match) {
         sc.step.setZero(v_free.size());
         solver.solve(sc.residual, sc.step);
         v_base += sc.step;
@@ -461,9 +479,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     VecX& v_next = sc.v_next = v_base;
     if (m > 0) {
       // c, J (v_base - v_k), weights; with an approximate W: W lambda_0, W~ lambda_0
-      Eigen::Map<MatX> per_row_values = sc.per_row.view(m, 5);
+      Eigen::Map<MatX> per_row_values = sc.per_row.view(m, 6);
       auto c = per_row_values.col(0), jdv = per_row_values.col(1), weights = per_row_values.col(2);
-      auto exact_w = per_row_values.col(3), approximate_w = per_row_values.col(4);
+      auto exact_w = per_row_values.col(3), approximate_w = per_row_values.col(4), start_lambda = per_row_values.col(5);
+      if (predicted_match) start_lambda = lambda0;  // PGS overwrites the rows' lambda
       if (correct) {  // fused: exact_w = J H^-1 (r + J^T lambda_0), which holds J (v_base - v_k) too
         apply_jacobian_transpose(model, s.rows, sc.impulse);
         if (fused) sc.impulse += sc.residual;
@@ -486,7 +505,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       {
         StageTimer pgs_timer(profile, Stage::Pgs);
         // C_k + h J (v - v_k) >= 0 with v = v_base + H^-1 J^T lambda.
-        if (fused) {
+        if (predicted_match) {
+          s.delassus.multiply(lambda0, jdv);
+          jdv = -jdv;
+        } else if (fused) {
           jdv.setZero();
         } else if (!one_solve) {
           sc.dv = v_base - v_free;
@@ -506,12 +528,13 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       apply_jacobian_transpose(model, s.rows, sc.impulse);
       impulse_valid = true;
       sc.correction.setZero(v_free.size());
-      if (one_solve || fused) {
+      if (one_solve || fused || (predicted_match && !whole_columns)) {
         sc.dv = sc.residual + sc.impulse;
         solver.solve(sc.dv, sc.correction);
       } else if (whole_columns) {
         // H^-1 J^T lambda = Y lambda from the rows' own columns, no solve (the first QP of
-        // a step; later ones fold it into the Newton step's solve above). Each entry sums the
+        // a step, Y (lambda - lambda_0) after the Newton predictor; later ones fold it into
+        // the Newton step's solve above). Each entry sums the
         // columns in row order, by one task, in chunks that depend on n alone (the simple
         // partitioner): the same sums, and the same vectorised and scalar parts, for any
         // thread count.
@@ -519,7 +542,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         tbb::parallel_for(tbb::blocked_range<Eigen::Index>(0, n, 256), [&](const tbb::blocked_range<Eigen::Index>& range) {
           const Eigen::Index first = range.begin(), count = range.end() - range.begin();
           for (int i = 0; i < m; ++i)
-            if (const double lambda = s.rows.lambda[i]; lambda != 0)
+            if (const double lambda = s.rows.lambda[i] - (predicted_match ? start_lambda[i] : 0.0); lambda != 0)
               sc.correction.segment(first, count) += lambda * Eigen::Map<const VecX>(s.row_column_scratch[i] + first, count);
         }, tbb::simple_partitioner());
       } else {
@@ -531,6 +554,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // the QP), with the weights raised for this QP's multipliers. Not a predicted descent
     // (an inexact LCP; an energy limit's Jacobian without dR/dx; the first QP from v* when
     // H is not A, as v_base = v* is then not H's Newton step): the step is taken whole.
+    // After the Newton predictor the first QP is treated like later ones: its residual is
+    // b - A v_k at v_k (computed above), not zero.
     // To the end of the iteration: the merit's products with A (element by element when the
     // matrix is not assembled: 0.06 ms a QP on the creature) and the bookkeeping.
     solve_timer.stop();  // already, unless there were no rows
@@ -585,7 +610,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       const double slope = conjugate_objective - friction_work(model, s.rows, sc.sqp_direction);
       // p need not meet the linearised rows as the QP's step does: their penalty at
       // v_k + p enters its predicted change.
-      auto jp = sc.per_row.view(m, 5).col(1);
+      auto jp = sc.per_row.view(m, 6).col(1);
       jp.setZero();
       add_jacobian_times(model, s.rows, sc.sqp_direction, jp);
       const double penalty_to = merit.penalty_along(s.rows, jp, h);
@@ -638,11 +663,12 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     s.curvature_pending = true;
   }
   s.v_free = v_free;
-  s.has_constraint_impulse = impulse_valid;
-  if (impulse_valid) {
-    s.constraint_impulse.resize(3 * model.num_nodes);
-    scatter_free(model, sc.impulse, s.constraint_impulse);
-  }
+  // The next Newton solve's predictor (solve_newton.cpp): kept in scenes with a Newton solve
+  // (whatever solver.newton_predictor, so that a state carries it to a world that uses it),
+  // and not when zero (rows within the margin carrying no force), which would only cost the
+  // next step the end at v* that an exact factorisation allows.
+  s.has_constraint_impulse = impulse_valid && model.has_hyperelastic && !sc.impulse.isZero(0);
+  if (s.has_constraint_impulse) scatter_free(model, sc.impulse, s.constraint_impulse);
   if (sqp == 0) {
     skip_qp_stages(profile, s.rows.size() ? "no row violated" : "no near-active constraint");
     s.warm_start.clear();

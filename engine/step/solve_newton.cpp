@@ -126,9 +126,11 @@ double energy_noise(const Model& model, std::vector<double>& stiffness) {
 // for the rest of the step if the exact system cannot be factorised, gives no descent
 // direction, or its full step is rejected by the line search.
 //
-// On exit the system and rhs describe the quadratic model around the result, so
+// On exit the system and rhs describe the quadratic model of Phi around the result, so
 // solve_constraints treats it like the linear path's v*: state.system = the last Hessian
-// (factorised), rhs = H v - grad.
+// (factorised), rhs = H v - grad Phi. With the predictor (below) the result is not that
+// model's minimiser (grad Phi = J^T lambda there), and solve_constraints starts its first QP
+// with the model's own Newton step.
 bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const SolverDesc& cfg = model.solver;
   const double t_end = state.t + model.h;
@@ -269,10 +271,12 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
           // the meshes of sinew_bench_hyperelastic). The tolerance is relative to the step's
           // scale (first_norm), not to this gradient alone: a body at rest has a tiny net
           // gradient, and 1e-8 of it asked for more CG iterations than Newton's own
-          // tolerance (1e-6 of the scale) could ever use.
+          // tolerance (1e-6 of the scale) could ever use. Capped so that the CG residual
+          // stays below a tenth of the gradient (inexact Newton with forcing term <= 0.1,
+          // whatever pcg_tolerance and newton_tolerance are; never a zero direction).
           constexpr int kPreconditionedCap = 12;
           iterations = solver.solve_preconditioned(H, scratch.negative_gradient, direction, cfg.pcg_tolerance,
-                                                   kPreconditionedCap, first_norm);
+                                                   kPreconditionedCap, std::min(first_norm, 0.1 * norm / cfg.pcg_tolerance));
         }
         // Too slow or no descent: this H is far from the factorised one; factorise it.
         if (iterations < 0) usable = factorize(false);
