@@ -71,6 +71,8 @@ struct State {
   VecX constraint_impulse;           // 3 * nodes: J^T lambda of the last step's last QP (constraints),
                                      // the next Newton solve's predictor; storage kept (no allocation)
   bool has_constraint_impulse = false;  // the last step solved a QP with rows: constraint_impulse holds
+  bool constraint_impulse_steady = false;  // ... and changed by at most 10 % from the step before's
+                                           // (the predictor's condition, solve_constraints.cpp)
   bool impulse_predicted = false;    // this step's Newton solve included it (solve_newton)
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
   long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset

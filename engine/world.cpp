@@ -107,7 +107,7 @@ bool World::step() {
       s.factor_age = m_model.solver.refactor_interval;
       s.factor_rotations.clear();
       s.touched_inverse.reset(stage_model().num_free);
-      s.has_constraint_impulse = false;  // an impulse of a sub-step, h / substeps
+      s.has_constraint_impulse = s.constraint_impulse_steady = false;  // an impulse of a sub-step, h / substeps
     }
   } else {
     forget_previous_step();
@@ -129,7 +129,7 @@ void World::forget_previous_step() {
   s.factor_rotations.clear();
   s.touched_inverse.reset(stage_model().num_free);  // H^-1 kept from earlier steps (delassus_reuse)
   s.warm_start.clear();
-  s.has_constraint_impulse = false;
+  s.has_constraint_impulse = s.constraint_impulse_steady = false;
   s.impulse_predicted = false;
   s.curvature.clear();
   s.curvature_blocks.clear();

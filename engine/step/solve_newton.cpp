@@ -147,7 +147,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // against an older factorisation: one for the impulse Newton left out, two for that
   // factor's error on it (the bunny_5 drop at rest; docs/ARCHITECTURE.md, stage 2-3').
   VecX& predicted = scratch.newton_predicted_impulse;
-  state.impulse_predicted = cfg.newton_predictor == "impulse" && state.has_constraint_impulse && !state.warm_start.empty();
+  state.impulse_predicted = cfg.newton_predictor == "impulse" && state.has_constraint_impulse && state.constraint_impulse_steady && !state.warm_start.empty();
   if (state.impulse_predicted) {
     gather_free(model, state.constraint_impulse, predicted);
     scratch.newton_b0 += predicted;
