@@ -365,7 +365,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // when there are no rows at all (the QP from v* would be the step d = 0). Never after the
     // Newton predictor: v* holds the last step's constraint force, which only a QP may keep.
     const bool no_rows = s.rows.size() == 0;
-    if (k == 0 && !predicted && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
+    // Whether v_k is the quadratic model's minimiser (v*, residual r = 0): the first QP's,
+    // unless Newton took the predictor's force, which leaves r = -J^T lambda_0 there. Every
+    // other QP starts from the model's Newton step H^-1 r at v_k.
+    const bool at_minimiser = k == 0 && !predicted;
+    if (at_minimiser && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
       converged = true;
       break;
@@ -381,14 +385,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     // The fallback: the last iterate within the tolerances, or, while none has been, the
     // least violated QP solution (not v*, which leaves the constraints out).
-    if (worst <= 1 && !skip_v_star && !(k == 0 && predicted)) {  // v0, v* with a predictor: no QP solution
+    if (worst <= 1 && !skip_v_star && (k > 0 || at_minimiser)) {  // v0, v* with a predictor: no QP solution
       sc.sqp_feasible = v_free;
       have_feasible = true;
     } else if (k > 0 && !have_feasible && worst < least_violation) {
       sc.sqp_feasible = v_free;
       least_violation = worst;
     }
-    if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp) && !(k == 0 && predicted)) {
+    if (k == IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp) && (k > 0 || at_minimiser)) {
       // The merit weighs small violations lightly (and does not fall at every iteration: a
       // last half is taken regardless, a non-descent step whole), so the last iterate may be
       // over a tolerance that an earlier one met (the tip-pressed finger), or, where the
@@ -414,7 +418,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     impulse_valid = false;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
 
-    VecX& v_base = sc.v_base = k == 0 && !predicted ? v_star : v_free;
+    VecX& v_base = sc.v_base = at_minimiser ? v_star : v_free;
     {
       StageTimer timer(profile, Stage::SqpFactorize);
       // Stalled: a kept H^-1 (delassus_reuse) converges too slowly, recompute it; else the
@@ -456,17 +460,17 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       apply_jacobian_transpose(model, s.rows, sc.impulse);  // lambda_0: the warm start, set above
       predicted_match = sc.impulse == sc.newton_predicted_impulse;
     }
-    const bool one_solve = (k > 0 || predicted) && whole_columns && !predicted_match;
+    const bool one_solve = !at_minimiser && whole_columns && !predicted_match;
     // With an approximate W (a kept G), W lambda_0 costs a solve, and so does the Newton
     // step H^-1 r; the LCP needs only J H^-1 (r + J^T lambda_0) of them, one solve, and
     // v_k+1 = v_k + H^-1 (r + J^T lambda) follows the LCP: two solves per iteration, not three.
     const bool correct = m > 0 && approximate && !lambda0.isZero(0) && !predicted_match;
-    const bool fused = (k > 0 || predicted) && !one_solve && correct && shared_solves_on;
-    if (k == 0 && predicted) {
+    const bool fused = !at_minimiser && !one_solve && correct && shared_solves_on;
+    if (k == 0 && !at_minimiser) {  // r at Newton's result (later iterations update it below)
       multiply_step_system(model, s, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
     }
-    if (k > 0 || predicted) {
+    if (!at_minimiser) {
       // b - A v_k from b - A v_k-1, as v_k = v_k-1 + alpha d and the merit kept A d: one
       // product with A per iteration fewer (the creature: 1950 DOFs, 108k entries, 0.035 ms each).
       if (k > 0) sc.residual.noalias() -= alpha * sc.sqp_product;
@@ -484,7 +488,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       auto exact_w = per_row_values.col(3), approximate_w = per_row_values.col(4), start_lambda = per_row_values.col(5);
       if (predicted_match) start_lambda = lambda0;  // PGS overwrites the rows' lambda
       if (correct) {  // fused: exact_w = J H^-1 (r + J^T lambda_0), which holds J (v_base - v_k) too
-        apply_jacobian_transpose(model, s.rows, sc.impulse);
+        if (!(k == 0 && predicted)) apply_jacobian_transpose(model, s.rows, sc.impulse);  // else there already
         if (fused) sc.impulse += sc.residual;
         sc.correction.setZero(v_free.size());
         solver.solve(sc.impulse, sc.correction);
@@ -566,7 +570,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       // b - A v0 is stage 1's (assemble_system's element pass): one column fewer.
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
       sc.residual = s.start_residual;
-    } else if (k == 0 && !predicted) {  // else sc.residual = b - A v_k already (above)
+    } else if (at_minimiser) {  // else sc.residual = b - A v_k already (above)
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
     } else {
