@@ -2,8 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
+#include "engine/assembly/invariant_tet_hessian.hpp"
 #include "engine/assembly/mean_dilatation_element.hpp"
+#include "engine/materials/invariant_material.hpp"
 
 namespace sinew {
 
@@ -92,6 +95,39 @@ namespace {
 // sum_q of the points' energies, gradients and projected Hessians (exact ones, with `exact`,
 // at points where the material is defined) over the first n nodes, into a gradient and
 // Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
+// One point's energy (+infinity where undefined), PK1 and (if hessian) Hessian, projected
+// unless `exact` and defined, added times w; an invariant material's terms taken once.
+template <class Matrix>
+double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n, double w, Mat3& P,
+                 Matrix* hessian, bool exact) {
+  const bool defined = material.is_defined(F);
+  const InvariantMaterial* invariant = material.as_invariant();
+  if (!invariant) {
+    P = material.pk1(F);
+    if (hessian) add_point_hessian(dN, n, exact && defined ? material.hessian(F) : material.projected_hessian(F), w, *hessian);
+    return defined ? w * material.energy(F) : std::numeric_limits<double>::infinity();
+  }
+  const InvariantTerms t = invariant->terms(F.squaredNorm(), F.determinant());
+  P = 2 * t.f1 * F + t.g1 * cofactor_matrix(F);  // InvariantMaterial::pk1
+  const bool project = !(exact && defined);
+  if (hessian && n == 4) {
+    if constexpr (std::is_same_v<Matrix, Mat12>) {
+      add_invariant_tet_hessian(F, t, project, dN, w, *hessian);
+    } else {  // the padded path: the same entries, bit for bit (a tet has one point)
+      Mat12 K = Mat12::Zero();
+      add_invariant_tet_hessian(F, t, project, dN, w, K);
+      hessian->template topLeftCorner<12, 12>() += K;
+    }
+  } else if (hessian) {
+    const Mat9 H = invariant_hessian(F, t);
+    add_point_hessian(dN, n, project ? remove_negative_modes(H, invariant_eigensystem(F, t)) : H, w, *hessian);
+  }
+  return defined ? w * t.psi : std::numeric_limits<double>::infinity();
+}
+
+// sum_q of the points' energies, gradients and projected Hessians (exact ones, with `exact`,
+// at points where the material is defined) over the first n nodes, into a gradient and
+// Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
 template <class Vector, class Matrix>
 double sum_over_points(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
                        Vector& gradient, Matrix* hessian, bool exact = false) {
@@ -101,15 +137,9 @@ double sum_over_points(const Material& material, const ElementQuadrature& quad, 
   const int n = nodes.count;
   for (int q = 0; q < quad.points; ++q) {
     const Mat83& dN = quad.dN_dX[q];
-    const Mat3 F = deformation_gradient(dN, nodes);
-    const bool defined = material.is_defined(F);
-    if (!defined) energy = std::numeric_limits<double>::infinity();
-    else energy += quad.weight * material.energy(F);
-    const Mat3 P = material.pk1(F);
+    Mat3 P;
+    energy += add_point(material, deformation_gradient(dN, nodes), dN, n, quad.weight, P, hessian, exact);
     for (int a = 0; a < n; ++a) gradient.template segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
-    if (!hessian) continue;
-    add_point_hessian(dN, n, exact && defined ? material.hessian(F) : material.projected_hessian(F), quad.weight,
-                      *hessian);
   }
   return energy;
 }

@@ -7,23 +7,21 @@ namespace sinew {
 
 namespace {
 
-// vec(U M V^T), column-major.
-Vec9 vec_in_frame(const RotationVariantSvd& svd, const Mat3& M) {
-  return vec9(svd.U * M * svd.V.transpose());
-}
+// U M V^T, and its vec (column-major).
+Mat3 in_frame(const RotationVariantSvd& svd, const Mat3& M) { return svd.U * M * svd.V.transpose(); }
+Vec9 vec_in_frame(const RotationVariantSvd& svd, const Mat3& M) { return vec9(in_frame(svd, M)); }
 
-// The twist (sign -1) or flip (+1) mode about axis k, vec(U (e_i e_j^T + sign e_j e_i^T) V^T)
-// / sqrt 2 with (i, j) the other two axes in order, entry by entry (without the two 3x3
-// products of vec_in_frame).
-Vec9 pair_mode(const RotationVariantSvd& svd, int k, double sign) {
+// The twist (sign -1) or flip (+1) eigenmatrix about axis k, U (e_i e_j^T + sign e_j e_i^T)
+// V^T / sqrt 2 with (i, j) the other two axes in order, entry by entry (without the two 3x3
+// products of U M V^T).
+Mat3 pair_mode(const RotationVariantSvd& svd, int k, double sign) {
   const int i = k == 0 ? 1 : 0;
   const int j = k == 2 ? 1 : 2;
   const double r = 1 / std::sqrt(2.0);
-  Vec9 q;
+  Mat3 Q;
   for (int b = 0; b < 3; ++b)
-    for (int a = 0; a < 3; ++a)
-      q(3 * b + a) = r * (svd.U(a, i) * svd.V(b, j) + sign * svd.U(a, j) * svd.V(b, i));
-  return q;
+    for (int a = 0; a < 3; ++a) Q(a, b) = r * (svd.U(a, i) * svd.V(b, j) + sign * svd.U(a, j) * svd.V(b, i));
+  return Q;
 }
 
 // Sylvester's criterion: all leading minors positive.
@@ -43,9 +41,9 @@ Eigenpairs compute_eigenpairs(const SvdEigensystem& system) {
   }
   for (int k = 0; k < 3; ++k) {
     pairs.values(3 + k) = system.twist(k);
-    pairs.vectors.col(3 + k) = pair_mode(system.svd, k, -1);
+    pairs.vectors.col(3 + k) = vec9(pair_mode(system.svd, k, -1));
     pairs.values(6 + k) = system.flip(k);
-    pairs.vectors.col(6 + k) = pair_mode(system.svd, k, 1);
+    pairs.vectors.col(6 + k) = vec9(pair_mode(system.svd, k, 1));
   }
   return pairs;
 }
@@ -56,19 +54,33 @@ Mat9 assemble_eigensystem(const SvdEigensystem& system, bool clamp) {
   return pairs.vectors * values.asDiagonal() * pairs.vectors.transpose();
 }
 
-Mat9 remove_negative_modes(const Mat9& H, const SvdEigensystem& system) {
-  Mat9 out = H;
-  auto remove = [&](double value, const Vec9& q) { out.noalias() -= value * q * q.transpose(); };
+int negative_modes(const SvdEigensystem& system, NegativeModes& modes) {
+  int count = 0;
+  auto add = [&](double value, const Mat3& Q) {
+    modes.values[count] = value;
+    modes.matrices[count++] = Q;
+  };
   for (int k = 0; k < 3; ++k) {
-    if (system.twist(k) < 0) remove(system.twist(k), pair_mode(system.svd, k, -1));
-    if (system.flip(k) < 0) remove(system.flip(k), pair_mode(system.svd, k, 1));
+    if (system.twist(k) < 0) add(system.twist(k), pair_mode(system.svd, k, -1));
+    if (system.flip(k) < 0) add(system.flip(k), pair_mode(system.svd, k, 1));
   }
   // A positive definite scaling block has no negative mode; otherwise its eigenvalues decide.
   if (!positive_definite(system.scaling)) {
     const Eigen::SelfAdjointEigenSolver<Mat3> scaling(system.scaling);
     for (int m = 0; m < 3; ++m)
       if (scaling.eigenvalues()(m) < 0)
-        remove(scaling.eigenvalues()(m), vec_in_frame(system.svd, Mat3(scaling.eigenvectors().col(m).asDiagonal())));
+        add(scaling.eigenvalues()(m), in_frame(system.svd, Mat3(scaling.eigenvectors().col(m).asDiagonal())));
+  }
+  return count;
+}
+
+Mat9 remove_negative_modes(const Mat9& H, const SvdEigensystem& system) {
+  Mat9 out = H;
+  NegativeModes modes;
+  const int count = negative_modes(system, modes);
+  for (int m = 0; m < count; ++m) {
+    const Vec9 q = vec9(modes.matrices[m]);
+    out.noalias() -= modes.values[m] * q * q.transpose();
   }
   return out;
 }

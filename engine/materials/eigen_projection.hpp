@@ -41,6 +41,13 @@ Mat9 assemble_eigensystem(const SvdEigensystem& system, bool clamp);
 // H - sum_{value_m < 0} value_m vec(Q_m) vec(Q_m)^T, which is assemble_eigensystem(system, true)
 // up to round-off but builds only the modes it removes (near rest: none, or one twist).
 Mat9 remove_negative_modes(const Mat9& H, const SvdEigensystem& system);
+// The modes remove_negative_modes removes, in its order: values[m] < 0 and the eigenmatrix
+// Q_m (unit Frobenius norm; the mode is vec(Q_m)). Returns their number.
+struct NegativeModes {
+  double values[9];
+  Mat3 matrices[9];
+};
+int negative_modes(const SvdEigensystem& system, NegativeModes& modes);
 
 // Nearest PSD matrix by a numerical eigen-decomposition (Eigen's SelfAdjointEigenSolver, values
 // clamped at 0): the reference the closed form is tested against, and the fallback for a

@@ -4,13 +4,13 @@
 
 namespace sinew {
 
-namespace {
-
 Mat3 cross_matrix(const Vec3& a) {
   Mat3 m;
   m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
   return m;
 }
+
+namespace {
 
 InvariantTerms terms_at(const InvariantMaterial& material, const Mat3& F) {
   return material.terms(F.squaredNorm(), F.determinant());

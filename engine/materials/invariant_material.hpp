@@ -13,6 +13,8 @@
 
 namespace sinew {
 
+// [a]x, the matrix of b -> a x b.
+Mat3 cross_matrix(const Vec3& a);
 // dJ/dF = [f1 x f2, f2 x f0, f0 x f1] (columns f_a of F).
 Mat3 cofactor_matrix(const Mat3& F);
 
@@ -44,6 +46,7 @@ class InvariantMaterial : public IsotropicMaterial {
   SvdEigensystem eigensystem(const Mat3& F) const override;
   // hessian(F) without its negative modes: cheaper than assembling all nine.
   Mat9 projected_hessian(const Mat3& F) const override;
+  const InvariantMaterial* as_invariant() const override { return this; }
   // The material's f, g and derivatives (public so tests can check them directly).
   virtual InvariantTerms terms(double Ic, double J) const = 0;
 };

@@ -33,6 +33,8 @@ struct LameParameters {
 // Throws std::invalid_argument unless E > 0 and -1 < nu < 1/2.
 LameParameters lame_parameters(const MaterialParameters& params);
 
+class InvariantMaterial;
+
 class Material {
  public:
   virtual ~Material() = default;
@@ -45,6 +47,9 @@ class Material {
   virtual Mat3 pk1(const Mat3& F) const = 0;               // P = dPsi/dF
   virtual Mat9 hessian(const Mat3& F) const = 0;           // d^2 Psi / dF^2
   virtual Mat9 projected_hessian(const Mat3& F) const = 0; // nearest PSD (eigenvalues clamped at 0)
+  // This material as an invariant one (invariant_material.hpp), or null: the element assembly
+  // then takes its terms once per point and a tet's Hessian term by term.
+  virtual const InvariantMaterial* as_invariant() const { return nullptr; }
 };
 
 // Names: "stable_neo_hookean", "neo_hookean", "corotational", "arap", "stvk", "fung",

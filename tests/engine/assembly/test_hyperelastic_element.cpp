@@ -8,6 +8,7 @@
 
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/fem/tet4.hpp"
+#include "engine/materials/invariant_material.hpp"
 #include "tests/engine/assembly/element_finite_differences.hpp"
 #include "tests/support/dense_decompositions.hpp"
 
@@ -221,5 +222,47 @@ TEST_CASE("hyperelastic tet, exact Hessian: w B^T d2Psi/dF2 B, or the projected 
     MESSAGE(std::string(name) << ": " << inverted << " undefined, " << indefinite << " indefinite exact Hessians of 200");
     if (std::string(name) == "neo_hookean") REQUIRE(inverted > 0);  // the fallback was exercised
     REQUIRE(indefinite > 0);  // the exact Hessian is not the projected one
+  }
+}
+
+TEST_CASE("hyperelastic tet, projected Hessian of an invariant material: term by term equals w B^T P(d2Psi/dF2) B") {
+  // The tet path builds the invariant materials' Hessian in 12 x 12 term by term
+  // (invariant_tet_hessian.hpp) instead of w B^T H B from the 9 x 9 H; the two sum the same
+  // terms in another order, so they agree to round-off: a few hundred eps of the largest
+  // term, which is of the size of the result's norm (1e-12 leaves a factor of ~20 over that).
+  const TetFixture t;
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-0.06, 0.06);
+  Eigen::Matrix<double, 9, 12> B = Eigen::Matrix<double, 9, 12>::Zero();
+  for (int a = 0; a < 4; ++a)
+    for (int j = 0; j < 3; ++j)
+      for (int i = 0; i < 3; ++i) B(i + 3 * j, 3 * a + i) = t.dN(a, j);
+  for (const char* name : {"stable_neo_hookean", "neo_hookean", "fung", "arruda_boyce"}) {
+    const auto material = make_material(name, {1e5, 0.45});
+    REQUIRE(material->as_invariant() != nullptr);
+    int pair_modes = 0, scaling_modes = 0;
+    for (int trial = 0; trial < 300; ++trial) {
+      // A third of the trials squeezed along a random axis to half its length or less, where
+      // the scaling block loses definiteness; the rest scattered at random.
+      const Vec3 axis = Vec3(u(rng), u(rng), u(rng)).normalized();
+      const double squeeze = trial % 3 == 0 ? 0.5 + 4 * u(rng) : 0.0;
+      const ElementNodes nodes = t.nodes([&](const Vec3& X) {
+        return Vec3(X - squeeze * axis * axis.dot(X) + Vec3(u(rng), u(rng), u(rng)));
+      });
+      const Mat3 F = deformation_gradient(t.dN, nodes);
+      const SvdEigensystem eigensystem = material->as_invariant()->eigensystem(F);
+      pair_modes += (eigensystem.twist.array() < 0).any() || (eigensystem.flip.array() < 0).any();
+      scaling_modes += Eigen::SelfAdjointEigenSolver<Mat3>(eigensystem.scaling).eigenvalues().minCoeff() < 0;
+      Vec12 g;
+      Mat12 K;
+      hyperelastic_tet_derivatives(*material, t.quad, nodes, g, &K);
+      const Mat12 expected = t.quad.weight * (B.transpose() * material->projected_hessian(F) * B);
+      CHECK((K - expected).norm() <= 1e-12 * expected.norm());
+      CHECK((K - K.transpose()).norm() <= 1e-12 * expected.norm());  // node 0's block: sums in two orders
+    }
+    MESSAGE(std::string(name) << ": negative twist or flip modes removed in " << pair_modes << ", scaling modes in "
+                              << scaling_modes << " of 300");
+    REQUIRE(pair_modes > 0);
+    REQUIRE(scaling_modes > 0);
   }
 }

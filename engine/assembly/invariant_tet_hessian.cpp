@@ -1,0 +1,44 @@
+#include "engine/assembly/invariant_tet_hessian.hpp"
+
+#include <Eigen/Geometry>
+
+#include "engine/materials/eigen_projection.hpp"
+
+namespace sinew {
+
+void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
+                               Mat12& hessian) {
+  NegativeModes modes;
+  const int mode_count = project ? negative_modes(invariant_eigensystem(F, t), modes) : 0;
+  const Mat3 cofactor = cofactor_matrix(F);
+  // Per node 1-3 (node 0's blocks follow from theirs below): dN_a and the vectors above.
+  Vec3 d[3], u[3], z[3], p[9][3];
+  for (int a = 0; a < 3; ++a) {
+    d[a] = dN.row(a + 1).transpose();
+    u[a] = F * d[a];
+    z[a] = cofactor * d[a];
+    for (int m = 0; m < mode_count; ++m) p[m][a] = modes.matrices[m] * d[a];
+  }
+  const double c_identity = 2 * t.f1 * w, c_f = 4 * t.f2 * w, c_cofactor = t.g2 * w, c_cross = -t.g1 * w;
+  Mat3 K[3][3];  // blocks of nodes 1-3
+  for (int a = 0; a < 3; ++a)
+    for (int b = a; b < 3; ++b) {
+      Mat3 block = c_f * u[a] * u[b].transpose() + c_cofactor * z[a] * z[b].transpose();
+      block.diagonal().array() += c_identity * d[a].dot(d[b]);
+      if (b != a) block += c_cross * cross_matrix(F * d[a].cross(d[b]));
+      for (int m = 0; m < mode_count; ++m) block -= (w * modes.values[m]) * p[m][a] * p[m][b].transpose();
+      K[a][b] = block;
+      if (b != a) K[b][a] = block.transpose();
+    }
+  // dN_0 = -(dN_1 + dN_2 + dN_3), and every term is bilinear in (dN_a, dN_b): K_0b = -sum_a K_ab.
+  Mat3 K0[3];
+  for (int b = 0; b < 3; ++b) K0[b] = -(K[0][b] + K[1][b] + K[2][b]);
+  hessian.block<3, 3>(0, 0) -= K0[0] + K0[1] + K0[2];
+  for (int b = 0; b < 3; ++b) {
+    hessian.block<3, 3>(0, 3 * b + 3) += K0[b];
+    hessian.block<3, 3>(3 * b + 3, 0) += K0[b].transpose();
+    for (int a = 0; a < 3; ++a) hessian.block<3, 3>(3 * a + 3, 3 * b + 3) += K[a][b];
+  }
+}
+
+}  // namespace sinew
