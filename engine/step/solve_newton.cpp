@@ -166,7 +166,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   double first_norm = -1;
   bool ok = true, factorised = false, exact = false;
   int exact_steps = 0;  // Newton directions from the exact Hessian (stats: newton_exact)
-  SparseMatrix& H = scratch.newton_H = A0;
+  SparseMatrix& H = scratch.newton_H;  // A0 plus the Hessian of Psi, copied from A0 by each assembly
   // Newton's matrix is the Hessian of Phi alone. The previous step's constraint curvature
   // (which factorize_step_system would add) has no term in Phi's gradient: with it the
   // Newton steps were wrong and every step ran to the iteration cap once energy rows had
@@ -228,7 +228,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         break;
       }
     }
-    quadratic_gradient.noalias() = A0 * v;
+    multiply_system(A0, v, quadratic_gradient);  // in parallel: Eigen's product is one thread
     quadratic_gradient -= b0;
     gradient = quadratic_gradient + model.h * dPsi;
     const double norm = gradient.norm();
@@ -313,7 +313,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // squared) falls below the round-off of the energies (energy_noise): the test would
     // then reject good steps by noise and stall Newton at a tiny step length. There the
     // full Newton step is taken (the quadratic model is exact to that precision).
-    A0_direction.noalias() = A0 * direction;
+    multiply_system(A0, direction, A0_direction);
     const double linear_term = quadratic_gradient.dot(direction), curvature = direction.dot(A0_direction);
     auto change_at = [&](double a) {
       trial = v + a * direction;
