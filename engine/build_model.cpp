@@ -6,6 +6,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "engine/assembly/element_kernels.hpp"
 #include "engine/collision/mesh_sdf.hpp"
 #include "engine/core/error.hpp"
 #include "engine/geometry/gmsh_reader.hpp"
@@ -323,6 +324,9 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
   for (int n = 0; n < model.num_nodes; ++n) model.rest_x.segment<3>(3 * n) = rest[n];
   for (int& f : model.free_index)
     if (f >= 0) f = model.num_free++;
+  for (Body& body : model.bodies)
+    for (int e = body.element_offset; e < body.element_offset + body.num_elements(); ++e)
+      body.rest_volume += element_rest_volume(model, e);
   std::vector<std::pair<int, int>> body_elements;
   for (const Body& body : model.bodies) body_elements.emplace_back(body.element_offset, body.element_offset + body.num_elements());
   model.element_schedule = schedule_elements(model.element_nodes, model.num_nodes, body_elements);

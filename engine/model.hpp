@@ -40,6 +40,7 @@ struct Body {
   EnergyLimitDesc energy_limit;
   StrainLimitDesc strain_limit;
   std::shared_ptr<const Material> hyperelastic;  // null: linear corotational (warped stiffness)
+  double rest_volume = 0;      // sum of the elements' rest volumes (m^3)
   int num_nodes() const { return static_cast<int>(lattice.nodes.size()); }
   int num_elements() const { return static_cast<int>(lattice.cells.size()); }
 };

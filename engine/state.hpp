@@ -48,7 +48,7 @@ struct StepScratch {
   SparseMatrix newton_A0, newton_H;
   VecX newton_x0, newton_b0, newton_predicted_impulse, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
       negative_gradient;
-  std::vector<double> psi, psi_trial, force2, body_stiffness;
+  std::vector<double> psi, psi_trial, force2;
 };
 
 struct State {
