@@ -186,7 +186,7 @@ struct SolverDesc {
   // for the first time. The LCP then runs on that approximate W, corrected by the exact
   // W lambda of its warm start (one extra solve per SQP iteration), so SQP converges to the
   // same tolerances; a stall recomputes it. 1: recompute with every factorisation.
-  int delassus_reuse = 8;
+  int delassus_reuse = 64;
   double activation_margin = 0.05; // rows for elements with Ue/Umax > 1 - margin (predicted)
   // Contact (engine/constraints/contact_rows.hpp).
   double contact_tolerance = 1e-4; // m, deepest penetration SQP accepts
