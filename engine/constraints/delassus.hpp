@@ -89,6 +89,9 @@ class Delassus {
   int m_k3 = 0;                       // 3 x touched nodes: T's rows
   std::vector<int> m_begin, m_local;  // rows' stencils in touched-node positions
   std::vector<Vec3> m_jac;
+  std::vector<int> m_next_begin, m_next_local;  // build's new stencils, compared with the last
+  std::vector<Vec3> m_next_jac;
+  long m_G_version = -1;                        // TouchedInverse::version of the last build
   mutable ScratchMatrix m_T_storage;  // 3k x m: G Jc^T, in the factored form only the columns built
   mutable std::vector<char> m_column_built;  // per row: its column of T is current
   const double* m_G_data = nullptr;          // G of the last build (touched_inverse.hpp), column-major

@@ -1,9 +1,23 @@
 #include "engine/constraints/touched_inverse.hpp"
 
+#include <atomic>
+
 namespace sinew {
+
+namespace {
+
+// Versions from one counter for every instance: equal versions mean the same G, even in a
+// copy (a per-instance count could meet another instance's at a different G).
+long next_version() {
+  static std::atomic<long> counter{0};
+  return ++counter;
+}
+
+}  // namespace
 
 void TouchedInverse::reset(int free_nodes) {
   m_stale = false;
+  m_version = next_version();
   for (const int f : m_nodes) m_local[f] = -1;
   m_local.resize(free_nodes, -1);
   m_nodes.clear();
@@ -25,6 +39,7 @@ void TouchedInverse::grow(int nodes) {
 // and, by symmetry, its new rows. The new-new block is averaged with its transpose so that
 // G is exactly symmetric (round-off in the solves is not).
 void TouchedInverse::add_columns(const std::vector<int>& added, const Eigen::Ref<const MatX>& X) {
+  m_version = next_version();
   const int old = size();
   grow(old + static_cast<int>(added.size()));
   m_nodes.insert(m_nodes.end(), added.begin(), added.end());

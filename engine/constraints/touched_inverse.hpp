@@ -34,6 +34,9 @@ class TouchedInverse {
   template <typename SolveMany>
   int require(const std::vector<int>& nodes, SolveMany&& solve_many);
 
+  // Changes with every change of G's entries (reset, added columns): equal versions, the same G.
+  long version() const { return m_version; }
+
   // Position of free node f in G (its DOFs are 3 local .. 3 local + 2), or -1.
   int local(int f) const { return m_local[f]; }
   int size() const { return static_cast<int>(m_nodes.size()); }  // touched nodes
@@ -45,6 +48,7 @@ class TouchedInverse {
   void add_columns(const std::vector<int>& added, const Eigen::Ref<const MatX>& X);
 
   bool m_stale = false;
+  long m_version = 0;
   std::vector<int> m_local;  // per free node: local index or -1
   std::vector<int> m_nodes;  // local index -> free node
   MatX m_G;                  // capacity x capacity (3 DOFs per node); the leading block is valid
