@@ -343,3 +343,51 @@ TEST_CASE("Delassus from row columns: rows on different bodies meet in zeros tha
   const MatX expected = J * Y;
   CHECK((masked.matrix() - expected).norm() < 1e-12 * expected.norm());
 }
+
+TEST_CASE("Delassus: rebuilt with the same G and rows it keeps W; a changed Jacobian or G is taken") {
+  // build() keeps W (or T's built columns) when G's version and the rows' stencils and
+  // Jacobians are the last build's; every other build must equal a build from scratch.
+  std::mt19937 rng(21);
+  for (const auto& [nodes, m] : {std::pair{8, 60}, std::pair{40, 12}}) {
+    CAPTURE(nodes);
+    Problem p = random_problem(nodes, m, rng);
+    const Eigen::LLT<MatX> llt(p.H);
+    std::vector<int> local_node;
+    TouchedInverse inverse = touched_inverse(p, llt, local_node);
+    Delassus W;
+    W.build(p.rows, local_node, inverse);
+    const MatX first = W.matrix();
+    W.build(p.rows, local_node, inverse);
+    CHECK(W.matrix() == first);
+    auto fresh = [&](const TouchedInverse& G) {
+      Delassus D;
+      D.build(p.rows, local_node, G);
+      return D.matrix();
+    };
+    // One Jacobian entry on a free node moved: W follows it.
+    int moved = 0;
+    while (local_node[p.rows.nodes[moved]] < 0) ++moved;
+    p.rows.jac[moved] *= 1.5;
+    W.build(p.rows, local_node, inverse);
+    CHECK(W.matrix() == fresh(inverse));
+    CHECK(W.matrix() != first);
+    // A new H, G refilled in the same object (same size, same storage): W follows it.
+    const MatX H2 = p.H + MatX::Identity(p.H.rows(), p.H.cols());
+    const Eigen::LLT<MatX> llt2(H2);
+    const MatX before = W.matrix();
+    inverse.reset(p.nodes - 1);
+    std::vector<int> free_nodes;
+    for (const int n : p.rows.nodes) free_nodes.push_back(p.free_index[n]);
+    inverse.require(free_nodes, [&](const auto& B, auto& X, const std::vector<int>&, const ZeroedColumns::Pattern*) {
+      X = llt2.solve(B);
+    });
+    for (int n = 0; n < p.nodes; ++n)
+      if (p.free_index[n] >= 0) local_node[n] = inverse.local(p.free_index[n]);
+    W.build(p.rows, local_node, inverse);
+    const MatX J = jacobian(p);
+    const MatX expected = J * llt2.solve(J.transpose());
+    CHECK(W.matrix() == fresh(inverse));
+    CHECK(W.matrix() != before);
+    CHECK((W.matrix() - expected).norm() < 1e-12 * expected.norm());
+  }
+}
