@@ -76,6 +76,7 @@ struct State {
   bool impulse_predicted = false;    // this step's Newton solve included it (solve_newton)
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
   long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset
+  int touched_inverse_first_nodes = 0;  // its touched nodes after that first fill
   Delassus delassus;                 // W = J H^-1 J^T of the current SQP iteration (constraints)
   std::vector<int> touched_scratch, local_node;  // scratch of the constraint solve
   RowColumnCache row_columns;        // H^-1 J_i^T per row, per factorisation, when W is formed

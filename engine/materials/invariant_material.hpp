@@ -40,13 +40,15 @@ SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t);
 
 class InvariantMaterial : public IsotropicMaterial {
  public:
-  double energy(const Mat3& F) const override;
-  Mat3 pk1(const Mat3& F) const override;
-  Mat9 hessian(const Mat3& F) const override;
+  // final: the element assembly takes an invariant material's terms() directly
+  // (hyperelastic_element.cpp), so an override of these would go unused there.
+  double energy(const Mat3& F) const final;
+  Mat3 pk1(const Mat3& F) const final;
+  Mat9 hessian(const Mat3& F) const final;
   SvdEigensystem eigensystem(const Mat3& F) const override;
   // hessian(F) without its negative modes: cheaper than assembling all nine.
-  Mat9 projected_hessian(const Mat3& F) const override;
-  const InvariantMaterial* as_invariant() const override { return this; }
+  Mat9 projected_hessian(const Mat3& F) const final;
+  const InvariantMaterial* as_invariant() const final { return this; }
   // The material's f, g and derivatives (public so tests can check them directly).
   virtual InvariantTerms terms(double Ic, double J) const = 0;
 };

@@ -193,12 +193,14 @@ int factor_delassus(const Model& model, LinearSolver& solver, State& s, bool& ap
     per_row = true;
     return solved;
   }
-  if (s.touched_inverse.size() == 0) s.touched_inverse_step = s.step_count;
+  const bool first_fill = s.touched_inverse.size() == 0;
+  if (first_fill) s.touched_inverse_step = s.step_count;
   approximate = s.touched_inverse.stale();
   const int solved = s.touched_inverse.require(
       touched, [&](const auto& B, auto& X, const std::vector<int>& rows, const LinearSolver::ColumnPattern* pattern) {
         solver.solve_many(B, X, &rows, pattern);
       });
+  if (first_fill) s.touched_inverse_first_nodes = s.touched_inverse.size();
   s.local_node.resize(model.num_nodes);
   for (int n = 0; n < model.num_nodes; ++n) {
     const int f = model.free_index[n];

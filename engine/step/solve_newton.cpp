@@ -1,6 +1,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <limits>
 
@@ -135,7 +136,10 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   StepScratch& scratch = state.scratch;  // kept storage: a warm step allocates nothing
   const VecX& x0 = scratch.newton_x0 = state.x;
   // A0 moves to the scratch by a swap (copying the matrix took 0.3 ms a step on cube_20):
-  // state.system receives H at every factorisation, and A0 back if Newton fails before one.
+  // state.system receives H at every factorisation, and A0 back if Newton fails. Until the
+  // first factorisation it holds no matrix of this step (an earlier step's storage, or none
+  // on the first step): nothing reads it there, and factorize_step_system's
+  // assemble_system_matrix returns at once (stage 1 assembled this step's A already).
   scratch.newton_A0.swap(state.system);
   const SparseMatrix& A0 = scratch.newton_A0;
   const VecX& b0 = scratch.newton_b0 = state.rhs;
@@ -190,6 +194,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   bool hessian_in_system = false;
   auto factorize = [&](bool allow_reuse = true) {
     StageTimer timer(state.profile, Stage::Factorize);
+    assert(state.system_assembled);  // else factorize_step_system would assemble A over H
     if (!hessian_in_system) state.system.swap(H);
     hessian_in_system = true;
     if (allow_reuse && may_reuse) {

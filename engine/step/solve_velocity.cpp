@@ -23,9 +23,13 @@ bool has_curvature(const State& state) {
 }
 
 // Whether H^-1 kept on the touched nodes (solver.delassus_reuse) may serve one more
-// factorisation: it is counted from the step that first filled it.
+// factorisation: it is counted from the step that first filled it, and is dropped once it
+// holds more than twice the nodes of that first fill (contacts that slide or roll onto new
+// nodes would otherwise grow G, dense in its nodes, and every build of W from it, over the
+// whole reuse window while most of its nodes no longer carry a row).
 bool touched_inverse_young(const Model& model, const State& state) {
-  return state.step_count - state.touched_inverse_step < model.solver.delassus_reuse;
+  return state.step_count - state.touched_inverse_step < model.solver.delassus_reuse &&
+         state.touched_inverse.size() <= 2 * std::max(1, state.touched_inverse_first_nodes);
 }
 
 // Rotations this close to the factorisation's leave A equal to the factored matrix up to

@@ -141,12 +141,16 @@ TEST_CASE("unmoved rotations: a kept factorisation drops a G kept from an earlie
   int k = 0;
   for (; k < 300 && factorize_skip(w) != kUnmoved; ++k) REQUIRE(w.step());
   REQUIRE(factorize_skip(w) == kUnmoved);  // at rest: the factorisation is kept
-  const auto plant = [&](long age) {
+  // G on `nodes` free nodes (0, 1, ...), first filled `age` steps ago with `first_nodes` of them.
+  const auto plant = [&](long age, int nodes = 2, int first_nodes = 2) {
     State& s = w.mutable_state();
     s.touched_inverse.reset(w.model().num_free);
-    s.touched_inverse.require(std::vector<int>{0, 1}, [](const auto&, auto& X, const std::vector<int>&, const ZeroedColumns::Pattern*) { X.setZero(); });
+    std::vector<int> planted(nodes);
+    for (int n = 0; n < nodes; ++n) planted[n] = n;
+    s.touched_inverse.require(planted, [](const auto&, auto& X, const std::vector<int>&, const ZeroedColumns::Pattern*) { X.setZero(); });
     s.touched_inverse.keep_stale();
     s.touched_inverse_step = s.step_count - age;
+    s.touched_inverse_first_nodes = first_nodes;
   };
   const int reuse = w.model().solver.delassus_reuse;
   // What each step did with G: it used G (the rows' H^-1 came from touched nodes), and no
@@ -168,4 +172,16 @@ TEST_CASE("unmoved rotations: a kept factorisation drops a G kept from an earlie
   used_g_without_refresh();
   CHECK(w.state().touched_inverse.stale());
   CHECK(w.state().touched_inverse.local(0) == 0);
+  // Young, but grown past twice the nodes of its first fill (contacts that moved onto new
+  // nodes): dropped like an old one.
+  plant(reuse - 1, 5, 2);
+  REQUIRE(w.step());
+  REQUIRE(factorize_skip(w) == kUnmoved);
+  used_g_without_refresh();
+  CHECK_FALSE(w.state().touched_inverse.stale());
+  CHECK(w.state().touched_inverse_step == w.state().step_count - 1);
+  plant(reuse - 1, 4, 2);  // twice its first fill: kept
+  REQUIRE(w.step());
+  REQUIRE(factorize_skip(w) == kUnmoved);
+  CHECK(w.state().touched_inverse.stale());
 }
