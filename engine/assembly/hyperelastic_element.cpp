@@ -92,9 +92,6 @@ double hyperelastic_element_energy(const Material& material, const ElementQuadra
 
 namespace {
 
-// sum_q of the points' energies, gradients and projected Hessians (exact ones, with `exact`,
-// at points where the material is defined) over the first n nodes, into a gradient and
-// Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
 // One point's energy (+infinity where undefined), PK1 and (if hessian) Hessian, projected
 // unless `exact` and defined, added times w; an invariant material's terms taken once.
 template <class Matrix>
@@ -108,7 +105,7 @@ double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n
     return defined ? w * material.energy(F) : std::numeric_limits<double>::infinity();
   }
   const InvariantTerms t = invariant->terms(F.squaredNorm(), F.determinant());
-  P = 2 * t.f1 * F + t.g1 * cofactor_matrix(F);  // InvariantMaterial::pk1
+  P = invariant_pk1(F, t);
   const bool project = !(exact && defined);
   if (hessian && n == 4) {
     if constexpr (std::is_same_v<Matrix, Mat12>) {
@@ -119,8 +116,7 @@ double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n
       hessian->template topLeftCorner<12, 12>() += K;
     }
   } else if (hessian) {
-    const Mat9 H = invariant_hessian(F, t);
-    add_point_hessian(dN, n, project ? remove_negative_modes(H, invariant_eigensystem(F, t)) : H, w, *hessian);
+    add_point_hessian(dN, n, project ? invariant_projected_hessian(F, t) : invariant_hessian(F, t), w, *hessian);
   }
   return defined ? w * t.psi : std::numeric_limits<double>::infinity();
 }

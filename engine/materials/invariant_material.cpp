@@ -46,10 +46,9 @@ Mat9 cofactor_hessian(const Mat3& F) {
 
 double InvariantMaterial::energy(const Mat3& F) const { return terms_at(*this, F).psi; }
 
-Mat3 InvariantMaterial::pk1(const Mat3& F) const {
-  const InvariantTerms t = terms_at(*this, F);
-  return 2 * t.f1 * F + t.g1 * cofactor_matrix(F);
-}
+Mat3 InvariantMaterial::pk1(const Mat3& F) const { return invariant_pk1(F, terms_at(*this, F)); }
+
+Mat3 invariant_pk1(const Mat3& F, const InvariantTerms& t) { return 2 * t.f1 * F + t.g1 * cofactor_matrix(F); }
 
 Mat9 InvariantMaterial::hessian(const Mat3& F) const { return invariant_hessian(F, terms_at(*this, F)); }
 
@@ -68,7 +67,10 @@ Mat9 invariant_hessian(const Mat3& F, const InvariantTerms& t) {
 }
 
 Mat9 InvariantMaterial::projected_hessian(const Mat3& F) const {
-  const InvariantTerms t = terms_at(*this, F);  // once for both: a log and two divisions (stable)
+  return invariant_projected_hessian(F, terms_at(*this, F));  // the terms once for both parts
+}
+
+Mat9 invariant_projected_hessian(const Mat3& F, const InvariantTerms& t) {
   return remove_negative_modes(invariant_hessian(F, t), invariant_eigensystem(F, t));
 }
 

@@ -35,7 +35,9 @@ struct InvariantTerms {
 
 // The Hessian above and its closed-form eigensystem for given terms (which need not come from
 // one (Ic, J): mean dilatation takes g' at the element's mean J).
+Mat3 invariant_pk1(const Mat3& F, const InvariantTerms& t);
 Mat9 invariant_hessian(const Mat3& F, const InvariantTerms& t);
+Mat9 invariant_projected_hessian(const Mat3& F, const InvariantTerms& t);  // without its negative modes
 SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t);
 
 class InvariantMaterial : public IsotropicMaterial {
