@@ -48,9 +48,9 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
     return m_pcg.info() == Eigen::Success;
   }
   if (!m_analyzed) {
-    // Simplicial LDL^T factorises the few-thousand-DOF systems of real-time scenes faster
-    // than the supernodal path (no BLAS call per supernode); larger 3D lattices have
-    // supernodes big enough for BLAS to win by orders of magnitude.
+    // Simplicial LDL^T below kSupernodalThreshold (the header says why there); above,
+    // supernodal: larger 3D lattices have supernodes big enough for BLAS to win by orders
+    // of magnitude, and many-column solves take SupernodalBlockSolve's blocked loops.
     m_cholmod.setMode(A.rows() < kSupernodalThreshold ? Eigen::CholmodLDLt : Eigen::CholmodSupernodalLLt);
     // Supernodal systems up to kNestedDissectionLimit DOFs: AMD and nested dissection
     // (CHOLMOD's NESDIS, on METIS), the one with less fill: nested dissection's balanced
