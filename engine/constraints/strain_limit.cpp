@@ -209,14 +209,23 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd
                            double margin, uint32_t keep, StrainLimitRows& out, double gap_tolerance) {
   out.count = 0;
   // Values first: most tets of a scene have no row near its limit (the flat finger: 231 of
-  // 324), and their derivative coefficients would go unused.
+  // 324), and their derivative coefficients would go unused. Not when rows are kept (rows
+  // that carried force, or the curvature's probes, 10 calls per tet): they are wanted.
+  if (keep == 0) {
+    Terms terms;
+    terms.derivatives = false;
+    collect_terms(spec, svd, terms);
+    bool any = false;
+    for (int t = 0; t < terms.count; ++t) any = any || terms.term[t].C < margin;
+    if (!any) return;
+  }
+  evaluate_strain_limit_rows(spec, svd, dN_dX, margin, keep, out, gap_tolerance);
+}
+
+void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
+                                double margin, uint32_t keep, StrainLimitRows& out, double gap_tolerance) {
+  out.count = 0;
   Terms terms;
-  terms.derivatives = false;
-  collect_terms(spec, svd, terms);
-  bool any = false;
-  for (int t = 0; t < terms.count; ++t)
-    any = any || terms.term[t].C < margin || (keep >> terms.term[t].k & 1u);
-  if (!any) return;
   terms.derivatives = true;
   collect_terms(spec, svd, terms);
 

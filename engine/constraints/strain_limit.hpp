@@ -146,6 +146,11 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat
 void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
                            double margin, uint32_t keep, StrainLimitRows& out,
                            double gap_tolerance = kStrainLimitGapTolerance);
+// The same for a caller that knows the tet has rows (keep != 0, or its
+// worst_strain_violation above -margin): no values-only pass first. The same rows.
+void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
+                                double margin, uint32_t keep, StrainLimitRows& out,
+                                double gap_tolerance = kStrainLimitGapTolerance);
 
 // Worst violation max_k(-C_k) of one tet (positive when violated; -inf when it has no
 // constraint). No gradients.

@@ -106,7 +106,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     const uint32_t mask = (it != kept.end() && it->first == e) ? it->second : 0u;
     const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    evaluate_strain_limit(spec, svds[e], dN_dX, margin, mask, found[i]);
+    evaluate_strain_limit_rows(spec, svds[e], dN_dX, margin, mask, found[i]);  // a candidate has rows
   });
   // Rows in element order: the table does not depend on the thread count.
   for (size_t i = 0; i < candidates.size(); ++i) {
