@@ -226,20 +226,4 @@ void Delassus::factored_product(const Eigen::Ref<const VecX>& lambda, Eigen::Map
     if (lambda[i] != 0) u.noalias() += Eigen::Map<const VecX>(column(i), m_k3) * lambda[i];
 }
 
-double Delassus::w(int i) const {
-  if (m_dense) return m_state_data[i];
-  double s = m_c_data[i];
-  for (int e = m_begin[i]; e < m_begin[i + 1]; ++e)
-    s += m_jac[e].dot(Eigen::Map<const Vec3>(m_state_data + 3 * m_local[e]));
-  return s;
-}
-
-void Delassus::changed(int i, double delta) {
-  // W symmetric: column i = row i.
-  if (!m_dense && !m_column_built[i]) build_column(i);
-  const int n = m_dense ? size() : m_k3;
-  Eigen::Map<VecX>(m_state_data, n).noalias() +=
-      Eigen::Map<const VecX>(m_columns_data + static_cast<std::size_t>(i) * n, n) * delta;
-}
-
 }  // namespace sinew
