@@ -190,7 +190,7 @@ void Delassus::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<cons
   out.setZero();
   Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
   u.setZero();
-  for (int b = 0; b < n; ++b) u.noalias() += Eigen::Map<const VecX>(column(rows[b]), m_k3) * x[b];
+  for (int b = 0; b < n; ++b) add_scaled(u.data(), column(rows[b]), x[b], m_k3);
   for (int a = 0; a < n; ++a)
     for (int e = m_begin[rows[a]]; e < m_begin[rows[a] + 1]; ++e) out[a] += m_jac[e].dot(u.segment<3>(3 * m_local[e]));
 }
@@ -223,7 +223,7 @@ void Delassus::factored_product(const Eigen::Ref<const VecX>& lambda, Eigen::Map
   // Over the columns with a multiplier only: the others may not be built.
   u.setZero();
   for (int i = 0; i < size(); ++i)
-    if (lambda[i] != 0) u.noalias() += Eigen::Map<const VecX>(column(i), m_k3) * lambda[i];
+    if (lambda[i] != 0) add_scaled(u.data(), column(i), lambda[i], m_k3);
 }
 
 }  // namespace sinew

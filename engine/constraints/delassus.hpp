@@ -17,6 +17,7 @@
 #include "engine/constraints/touched_inverse.hpp"
 #include "engine/core/scratch_matrix.hpp"
 #include "engine/core/types.hpp"
+#include "engine/math/add_scaled.hpp"
 
 namespace sinew {
 
@@ -119,8 +120,7 @@ inline void Delassus::changed(int i, double delta) {
   // W symmetric: column i = row i.
   if (!m_dense && !m_column_built[i]) build_column(i);
   const int n = m_dense ? size() : m_k3;
-  Eigen::Map<VecX>(m_state_data, n).noalias() +=
-      Eigen::Map<const VecX>(m_columns_data + static_cast<std::size_t>(i) * n, n) * delta;
+  add_scaled(m_state_data, m_columns_data + static_cast<std::size_t>(i) * n, delta, n);
 }
 
 }  // namespace sinew

@@ -3,6 +3,7 @@
 // translates (a fall) needs one factorisation, and one that turns needs one a step.
 #include <doctest/doctest.h>
 
+#include <Eigen/Geometry>
 #include <string>
 
 #include "tests/engine/step/contact_scenes.hpp"

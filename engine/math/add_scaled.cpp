@@ -1,0 +1,34 @@
+#include "engine/math/add_scaled.hpp"
+
+#include <immintrin.h>
+
+namespace sinew {
+namespace {
+
+// target("avx2") without "fma": the compiler may not contract x * a + y into one rounding.
+__attribute__((target("avx2"))) void add_scaled_avx2(double* y, const double* x, double a, int n) {
+  const __m256d scale = _mm256_set1_pd(a);
+  int i = 0;
+  for (; i + 4 <= n; i += 4)
+    _mm256_storeu_pd(y + i, _mm256_add_pd(_mm256_loadu_pd(y + i), _mm256_mul_pd(_mm256_loadu_pd(x + i), scale)));
+  for (; i < n; ++i) y[i] += x[i] * a;
+}
+
+void add_scaled_sse2(double* y, const double* x, double a, int n) {
+  const __m128d scale = _mm_set1_pd(a);
+  int i = 0;
+  for (; i + 2 <= n; i += 2) _mm_storeu_pd(y + i, _mm_add_pd(_mm_loadu_pd(y + i), _mm_mul_pd(_mm_loadu_pd(x + i), scale)));
+  for (; i < n; ++i) y[i] += x[i] * a;
+}
+
+}  // namespace
+
+void add_scaled(double* y, const double* x, double a, int n) {
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  if (has_avx2)
+    add_scaled_avx2(y, x, a, n);
+  else
+    add_scaled_sse2(y, x, a, n);
+}
+
+}  // namespace sinew
