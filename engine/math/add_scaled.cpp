@@ -2,6 +2,8 @@
 
 #include <immintrin.h>
 
+#include "engine/core/cpu_features.hpp"
+
 namespace sinew {
 namespace {
 
@@ -24,8 +26,7 @@ void add_scaled_sse2(double* y, const double* x, double a, int n) {
 }  // namespace
 
 void add_scaled(double* y, const double* x, double a, int n) {
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  if (has_avx2)
+  if (use_avx2())
     add_scaled_avx2(y, x, a, n);
   else
     add_scaled_sse2(y, x, a, n);

@@ -4,6 +4,8 @@
 #include <array>
 #include <stdexcept>
 
+#include "engine/core/cpu_features.hpp"
+#include "engine/solve/supernode_kernels_avx2.hpp"
 #include "engine/solve/supernode_view.hpp"
 
 namespace sinew {
@@ -83,8 +85,17 @@ void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, con
                 const char* wanted, int& visited) {
   const int nsuper = static_cast<int>(L.nsuper);
   // Forward: L y = P b; a supernode the block has not reached is zero and is skipped.
-  for (int s = 0; s < nsuper; ++s)
-    if (nonzero[s]) forward<W>(supernode_view(L, s), y, supernode_of, nonzero);
+  // Blocks 4 or more wide take the AVX2 kernels where the CPU has it: the same bits.
+  const bool avx2 = W % 4 == 0 && use_avx2();
+  for (int s = 0; s < nsuper; ++s) {
+    if (!nonzero[s]) continue;
+    if constexpr (W % 4 == 0)
+      if (avx2) {
+        forward_avx2<W>(supernode_view(L, s), y, supernode_of, nonzero);
+        continue;
+      }
+    forward<W>(supernode_view(L, s), y, supernode_of, nonzero);
+  }
   // Backward: L^T z = y, from the roots down. z_s = 0 where y_s = 0 (not reached) and z is 0
   // on every row below s's triangle (ancestors found zero): the block's columns then belong to
   // other parts of the tree, e.g. to other bodies, whose blocks of L are apart. nonzero[s] now
@@ -102,7 +113,14 @@ void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, con
       if (parent[s] < 0 || !nonzero[parent[s]]) continue;
       nonzero[s] = 1;
     }
-    backward<W>(supernode_view(L, s), y);
+    if constexpr (W % 4 == 0) {
+      if (avx2)
+        backward_avx2<W>(supernode_view(L, s), y);
+      else
+        backward<W>(supernode_view(L, s), y);
+    } else {
+      backward<W>(supernode_view(L, s), y);
+    }
     ++visited;
   }
 }

@@ -5,7 +5,9 @@
 #include <doctest/doctest.h>
 
 #include <Eigen/CholmodSupport>
+#include <cstring>
 
+#include "engine/core/cpu_features.hpp"
 #include "engine/solve/supernodal_block_solve.hpp"
 #include "engine/solve/supernode_view.hpp"
 
@@ -155,5 +157,23 @@ TEST_CASE("supernodal block solve: wanted rows come out bit for bit as in a full
       while (super[owner + 1] <= view.rows[r]) ++owner;
       CHECK(wanted[owner]);
     }
+  }
+}
+
+TEST_CASE("supernodal block solve: the AVX2 kernels give the baseline kernels' bits, at every block width") {
+  GridSolve grids(7);
+  const int n = 2 * grids.n;
+  const cholmod_factor& L = grids.factor.L();
+  if (!use_avx2()) MESSAGE("this CPU has no AVX2: both runs below take the baseline kernels");
+  for (int width = 1; width <= SupernodalBlockSolve::kMaxWidth; ++width) {
+    CAPTURE(width);
+    const MatX B = MatX::Random(n, width);
+    MatX X_vector(n, width), X_baseline(n, width);
+    grids.solve.solve(L, B.data(), n, X_vector.data(), n, width, grids.ws);
+    allow_avx2(false);
+    grids.solve.solve(L, B.data(), n, X_baseline.data(), n, width, grids.ws);
+    allow_avx2(true);
+    CHECK(std::memcmp(X_vector.data(), X_baseline.data(), sizeof(double) * X_vector.size()) == 0);
+    CHECK((grids.A * X_vector - B).norm() <= 1e-12 * B.norm());
   }
 }
