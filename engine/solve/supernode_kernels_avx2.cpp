@@ -4,11 +4,16 @@
 
 #include <cstddef>
 
-// AVX2 for this file's functions alone (templates do not take a target attribute); the file
-// is compiled on its own, outside the unity batches (engine/CMakeLists.txt), and includes
-// everything before this line, so no inline function of a header is compiled with it.
+// AVX2 for this file's functions alone (GCC's target attribute does not reach template
+// instantiations; clang, the fuzz build's compiler, has its own pragma). The file is compiled
+// on its own, outside the unity batches (engine/CMakeLists.txt), and includes everything
+// before this line, so no inline function of a header is compiled with it.
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
 #pragma GCC push_options
 #pragma GCC target("avx2")
+#endif
 
 namespace sinew {
 
@@ -146,4 +151,8 @@ template void backward_avx2<16>(const SupernodeView&, double*);
 
 }  // namespace sinew
 
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
 #pragma GCC pop_options
+#endif
