@@ -1,19 +1,22 @@
 #include "engine/core/cpu_features.hpp"
 
-#include <atomic>
-
 namespace sinew {
 namespace {
 
-std::atomic<bool> g_allowed{true};
+bool cpu_has_avx2() {
+  __builtin_cpu_init();  // callable before other static initialisers have run
+  return __builtin_cpu_supports("avx2");
+}
 
 }  // namespace
 
-bool use_avx2() {
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  return has_avx2 && g_allowed.load(std::memory_order_relaxed);
-}
+namespace detail {
+std::atomic<bool> g_use_avx2{cpu_has_avx2()};
+}  // namespace detail
 
-void allow_avx2(bool allowed) { g_allowed.store(allowed, std::memory_order_relaxed); }
+void allow_avx2(bool allowed) {
+  static const bool has_avx2 = cpu_has_avx2();
+  detail::g_use_avx2.store(allowed && has_avx2, std::memory_order_relaxed);
+}
 
 }  // namespace sinew

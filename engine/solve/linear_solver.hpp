@@ -23,8 +23,8 @@ class LinearSolver {
   // there. Above, the constraint solve's many columns (one per row, or H^-1 on touched
   // nodes) go through SupernodalBlockSolve, 16 columns at a time: the pressed fingers (360
   // DOFs, 500 rows) `sqp_solve` 25-35 % lower, paper 000's beams (378) 30-45 % and its
-  // collapse 2-3x faster a step; a 270-DOF beam without constraints 12 % slower (measured
-  // 2026-12-04, docs/ARCHITECTURE.md stage 2).
+  // collapse 2-3x faster a step; a 270-DOF beam without constraints 14 % slower (measured
+  // 2026-12-04 with supernodal factors everywhere against 1000, docs/ARCHITECTURE.md stage 2).
   static constexpr int kSupernodalThreshold = 300;
   static constexpr int kNestedDissectionLimit = 20000;  // DOFs: AMD or NESDIS up to here (factorize)
   explicit LinearSolver(const SolverDesc& desc);
