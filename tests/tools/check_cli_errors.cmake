@@ -2,7 +2,7 @@
 # line on stderr that names the program, the option and the value given (never an abort,
 # never a number read from half of it), and --help exits 0 describing every option. Only
 # bad-argument and --help runs: nothing is benchmarked. Usage:
-#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DOUT=dir -P this file.
+#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DOUT=dir -P this file.
 cmake_minimum_required(VERSION 3.19)
 
 set(CHECK_NAME tools_cli_errors)
@@ -83,6 +83,12 @@ endforeach()
 expect_help("${WORK_PRECISION}" --quick --out --only --threads --cache --fresh)
 foreach(bad "--threads;abc" "--threads;3abc" "--threads;0")
   expect_refused("${WORK_PRECISION}" --threads ${bad})
+endforeach()
+
+expect_help("${KERNELS}" --repeats --out)
+foreach(bad "--repeats;abc" "--repeats;3abc" "--repeats;0" "--bogus")
+  list(GET bad 0 option)
+  expect_refused("${KERNELS}" ${option} ${bad})
 endforeach()
 
 message(STATUS "tools_cli_errors: bad options refused with exit code 2, --help complete")
