@@ -12,11 +12,11 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
-#include "engine/assembly/system_pattern.hpp"
 #include "engine/core/cpu_features.hpp"
 #include "engine/io/atomic_file.hpp"
 #include "engine/math/add_scaled.hpp"
 #include "engine/solve/supernodal_block_solve.hpp"
+#include "tests/support/grid_matrices.hpp"  // the solver tests' grid Laplacian
 #include "tools/cli_options.hpp"
 
 using namespace sinew;
@@ -24,24 +24,6 @@ using namespace sinew;
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// 7 I minus the adjacency of an nx^3 grid: SPD, one unknown per node.
-SparseMatrix grid_laplacian(int nx) {
-  const auto node = [nx](int i, int j, int k) { return (k * nx + j) * nx + i; };
-  std::vector<Eigen::Triplet<double>> entries;
-  for (int k = 0; k < nx; ++k)
-    for (int j = 0; j < nx; ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int a = node(i, j, k);
-        entries.emplace_back(a, a, 7.0);
-        if (i + 1 < nx) entries.emplace_back(a, node(i + 1, j, k), -1.0), entries.emplace_back(node(i + 1, j, k), a, -1.0);
-        if (j + 1 < nx) entries.emplace_back(a, node(i, j + 1, k), -1.0), entries.emplace_back(node(i, j + 1, k), a, -1.0);
-        if (k + 1 < nx) entries.emplace_back(a, node(i, j, k + 1), -1.0), entries.emplace_back(node(i, j, k + 1), a, -1.0);
-      }
-  SparseMatrix A(nx * nx * nx, nx * nx * nx);
-  A.setFromTriplets(entries.begin(), entries.end());
-  return A;
-}
 
 struct SupernodalFactor : Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> {
   explicit SupernodalFactor(const SparseMatrix& A) {
@@ -109,7 +91,7 @@ int main(int argc, char** argv) {
     cases.push_back({{"kernel", "add_scaled"}, {"n", n}, {"calls", 100}, {"baseline_us", baseline}, {"avx2_us", avx2}});
   }
   for (const int nx : {8, 12, 16}) {
-    const SparseMatrix A = grid_laplacian(nx);
+    const SparseMatrix A = test::grid_laplacian(nx);
     const SupernodalFactor factor(A);
     if (factor.info() != Eigen::Success) {
       std::fprintf(stderr, "sinew_bench_kernels: the grid factorisation failed\n");

@@ -3,6 +3,7 @@
 #include <immintrin.h>
 
 #include "engine/core/cpu_features.hpp"
+#include "engine/core/types.hpp"
 
 namespace sinew {
 namespace {
@@ -16,20 +17,13 @@ __attribute__((target("avx2"))) void add_scaled_avx2(double* y, const double* x,
   for (; i < n; ++i) y[i] += x[i] * a;
 }
 
-void add_scaled_sse2(double* y, const double* x, double a, int n) {
-  const __m128d scale = _mm_set1_pd(a);
-  int i = 0;
-  for (; i + 2 <= n; i += 2) _mm_storeu_pd(y + i, _mm_add_pd(_mm_loadu_pd(y + i), _mm_mul_pd(_mm_loadu_pd(x + i), scale)));
-  for (; i < n; ++i) y[i] += x[i] * a;
-}
-
 }  // namespace
 
 void add_scaled(double* y, const double* x, double a, int n) {
   if (use_avx2())
     add_scaled_avx2(y, x, a, n);
-  else
-    add_scaled_sse2(y, x, a, n);
+  else  // Eigen's own loop (SSE2 in this build), as the callers wrote it before
+    Eigen::Map<VecX>(y, n).noalias() += Eigen::Map<const VecX>(x, n) * a;
 }
 
 }  // namespace sinew

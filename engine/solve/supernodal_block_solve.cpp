@@ -80,22 +80,30 @@ void backward(const SupernodeView& s, double* y) {
   }
 }
 
+// The passes over one supernode: the AVX2 kernels for blocks 4 or more wide where the CPU
+// has it (the same bits), else the ones above.
+template <int W>
+void forward_pass(bool avx2, const SupernodeView& s, double* y, const int* supernode_of, char* nonzero) {
+  if constexpr (W % 4 == 0)
+    if (avx2) return forward_avx2<W>(s, y, supernode_of, nonzero);
+  forward<W>(s, y, supernode_of, nonzero);
+}
+
+template <int W>
+void backward_pass(bool avx2, const SupernodeView& s, double* y) {
+  if constexpr (W % 4 == 0)
+    if (avx2) return backward_avx2<W>(s, y);
+  backward<W>(s, y);
+}
+
 template <int W>
 void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, const int* parent, char* nonzero,
                 const char* wanted, int& visited) {
   const int nsuper = static_cast<int>(L.nsuper);
   // Forward: L y = P b; a supernode the block has not reached is zero and is skipped.
-  // Blocks 4 or more wide take the AVX2 kernels where the CPU has it: the same bits.
-  const bool avx2 = W % 4 == 0 && use_avx2();
-  for (int s = 0; s < nsuper; ++s) {
-    if (!nonzero[s]) continue;
-    if constexpr (W % 4 == 0)
-      if (avx2) {
-        forward_avx2<W>(supernode_view(L, s), y, supernode_of, nonzero);
-        continue;
-      }
-    forward<W>(supernode_view(L, s), y, supernode_of, nonzero);
-  }
+  const bool avx2 = use_avx2();  // read once: both passes take the same kernels
+  for (int s = 0; s < nsuper; ++s)
+    if (nonzero[s]) forward_pass<W>(avx2, supernode_view(L, s), y, supernode_of, nonzero);
   // Backward: L^T z = y, from the roots down. z_s = 0 where y_s = 0 (not reached) and z is 0
   // on every row below s's triangle (ancestors found zero): the block's columns then belong to
   // other parts of the tree, e.g. to other bodies, whose blocks of L are apart. nonzero[s] now
@@ -113,14 +121,7 @@ void run_passes(const cholmod_factor& L, double* y, const int* supernode_of, con
       if (parent[s] < 0 || !nonzero[parent[s]]) continue;
       nonzero[s] = 1;
     }
-    if constexpr (W % 4 == 0) {
-      if (avx2)
-        backward_avx2<W>(supernode_view(L, s), y);
-      else
-        backward<W>(supernode_view(L, s), y);
-    } else {
-      backward<W>(supernode_view(L, s), y);
-    }
+    backward_pass<W>(avx2, supernode_view(L, s), y);
     ++visited;
   }
 }

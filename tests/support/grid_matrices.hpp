@@ -5,6 +5,7 @@
 // times that. Several copies stand for several bodies: L is block-diagonal.
 #include <vector>
 
+#include "engine/assembly/system_pattern.hpp"  // SparseMatrix
 #include "engine/core/types.hpp"
 
 namespace sinew::test {
