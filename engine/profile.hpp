@@ -40,6 +40,7 @@ struct StepWork {
 // Iteration caps that lower the scene's for a step (the real-time budget); 0 keeps the scene's.
 struct IterationCaps {
   int sqp = 0, pgs = 0, newton = 0;
+  int pcg = 0;  // CG iterations per solve of solver.linear "pcg"
   // The cap in force: the scene's, or this one when it is lower.
   static int effective(int scene_cap, int cap) { return cap > 0 && cap < scene_cap ? cap : scene_cap; }
 };

@@ -152,6 +152,7 @@ bool World::attempt_step() {
   if (s.sleep.changed) apply_sleeping_set();
   const int asleep = s.sleep.count();  // during this step
   const Model& model = stage_model();
+  m_solver.set_pcg_cap(s.caps.pcg);
   const long factorizations = m_solver.factorizations(), solves = m_solver.solves(), rows = s.rows.appended;
   const VecX& x0 = s.scratch.attempt_x0 = s.x;
   const VecX& v0 = s.scratch.attempt_v0 = s.v;

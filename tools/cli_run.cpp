@@ -38,8 +38,8 @@ Options run_options() {
                           "                          shrink to fit it; over-budget frames are counted. Every thread\n"
                           "                          spins the last 4 ms before each frame, so that the frame's first\n"
                           "                          parallel stage finds them awake. Not deterministic"},
-       {"--budget", "MS", "simulation budget per frame in ms (with or without --realtime): SQP, PGS\n"
-                          "                          and Newton caps adapt to what is left of it. Not deterministic;\n"
+       {"--budget", "MS", "simulation budget per frame in ms (with or without --realtime): SQP, PGS,\n"
+                          "                          Newton and PCG caps adapt to what is left of it. Not deterministic;\n"
                           "                          without --budget and --realtime the scene's caps hold"},
        {"--quiet", "", "print nothing but errors"}};
   for (OptionSpec& s : render_option_specs()) specs.push_back(std::move(s));

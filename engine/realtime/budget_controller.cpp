@@ -40,6 +40,15 @@ IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const St
   // PGS sweeps in proportion to what the SQP iterations had of what they needed.
   const double sqp_share = per_sqp > 0 ? std::clamp((per_step - fixed_ms - newton_ms) / (per_sqp * std::max(sqp, 1)), 0.0, 1.0) : 1.0;
   caps.pgs = std::max(1, int(std::floor(sqp_share * m_scene.pgs_max_iterations)));
+  // PCG iterations per solve (solver.linear "pcg"): what fits in the solve stage's share of
+  // the time left, the rest of the step costing what it did. The solve stage also holds
+  // non-CG work (Newton's line search), so this cost per iteration errs high.
+  const int pcg = count(last, "pcg");
+  const double solve_ms = stage_ms(last, Stage::Solve);
+  if (pcg > 0 && solve_ms > 0) {
+    const int solves = std::max(1, count(last, "pcg_solves"));
+    caps.pcg = fit((per_step - (last.step_ms - solve_ms)) / solves, solve_ms / pcg, m_scene.pcg_max_iterations);
+  }
   return caps;
 }
 

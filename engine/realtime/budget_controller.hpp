@@ -10,7 +10,11 @@
 // iterations (rows + solves + PGS + the line search's products per iteration). The SQP cap is what fits after the fixed
 // part and the Newton iterations: floor((L - fixed - newton) / cost per SQP iteration); if
 // that is below one, the Newton cap is cut the same way and PGS sweeps are scaled down in
-// proportion. Every cap stays >= 1: a step always makes progress.
+// proportion. PCG iterations per solve (solver.linear "pcg"): what fits in (L - the step's
+// time outside the solve stage) / its PCG solves, at the solve stage's cost per iteration.
+// Newton's CG preconditioned by an older factorisation keeps its own cap: cut further, its
+// directions destabilised the bunny_5 drop under a 5 ms budget (3 runs in 6 blew up).
+// Every cap stays >= 1: a step always makes progress.
 #include "engine/profile.hpp"
 #include "engine/scene/scene.hpp"
 

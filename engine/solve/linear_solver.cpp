@@ -9,6 +9,7 @@
 
 #include <stdexcept>
 
+#include "engine/profile.hpp"
 #include "engine/solve/system_product.hpp"
 
 namespace sinew {
@@ -89,8 +90,13 @@ bool LinearSolver::honours_wanted_rows() const {
   return L && L->is_super;
 }
 
+void LinearSolver::set_pcg_cap(int cap) {
+  m_pcg.setMaxIterations(IterationCaps::effective(m_desc.pcg_max_iterations, cap));
+}
+
 int LinearSolver::solve(const VecX& b, VecX& x) {
   ++m_solves;
+  m_last_converged = true;
   if (m_use_cholmod) {
     x.resize(b.size());
     if (tree_solve(b.data(), x.data())) {
@@ -107,6 +113,7 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
   if (x.size() != b.size()) x.setZero(b.size());
   x = m_pcg.solveWithGuess(b, x);
   m_last_residual = m_pcg.error();
+  m_last_converged = m_pcg.info() == Eigen::Success;
   return static_cast<int>(m_pcg.iterations());
 }
 
@@ -128,6 +135,7 @@ int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, Vec
     x += alpha * p;
     r -= alpha * q;
     if (r.norm() <= target) return it;
+    if (it == max_iterations) break;  // no preconditioning for an iteration that will not run
     solve(r, z);
     const double rz_next = r.dot(z);
     p = z + (rz_next / rz) * p;

@@ -33,6 +33,12 @@ class LinearSolver {
   bool factorize(const SparseMatrix& A);
   // Solves A x = b. PCG starts from the x passed in. Returns iterations (1 for CHOLMOD).
   int solve(const VecX& b, VecX& x);
+  // PCG's iteration cap per solve: the scene's pcg_max_iterations, or `cap` when that is
+  // lower and positive (the real-time budget's IterationCaps::pcg; 0 restores the scene's).
+  void set_pcg_cap(int cap);
+  // Whether the last solve() met its tolerance (always true with CHOLMOD): false when PCG
+  // stopped at its iteration cap, the scene's or the budget's.
+  bool last_solve_converged() const { return m_last_converged; }
   // CHOLMOD only: solves A x = b, A full symmetric (both triangles) and not the matrix last
   // factorised, by conjugate gradients preconditioned with that factorisation, from x = 0
   // until |b - A x| <= tolerance max(|b|, scale). Returns the iterations, or -1 when
@@ -82,6 +88,7 @@ class LinearSolver {
   bool m_use_cholmod = true;
   bool m_analyzed = false;
   double m_last_residual = 0;
+  bool m_last_converged = true;
   VecX m_residual, m_preconditioned, m_search, m_product;  // solve_preconditioned's, kept
   long m_factorizations = 0, m_solves = 0;
   SolverDesc m_desc;

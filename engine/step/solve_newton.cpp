@@ -189,6 +189,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   bool may_reuse = state.step_count > 0 && solver.uses_cholmod() && ++state.factor_age < cfg.refactor_interval;
   bool preconditioning = false;
   int preconditioned_iterations = 0;
+  int pcg_solves = 0;  // solver.linear "pcg": the real-time budget shares its CG time among them
   // The assembled H moves into state.system by a swap (a copy took 0.1-0.3 ms a step); H's
   // storage then holds no Hessian until the next assembly.
   bool hessian_in_system = false;
@@ -300,6 +301,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         StageTimer timer(state.profile, Stage::Solve);
         direction.setZero(v.size());
         linear += solver.solve(scratch.negative_gradient, direction);
+        if (!solver.uses_cholmod()) ++pcg_solves;
       }
       if (usable) {
         slope = gradient.dot(direction);
@@ -378,6 +380,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // allocate (profile_map.hpp).
   state.profile.iterations["newton_predicted"] += state.impulse_predicted ? 1 : 0;
   if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += linear;
+  if (pcg_solves) state.profile.iterations["pcg_solves"] += pcg_solves;
   return ok;
 }
 

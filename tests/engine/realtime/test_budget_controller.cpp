@@ -61,6 +61,78 @@ TEST_CASE("budget controller: Newton caps for hyperelastic steps") {
   CHECK(BudgetController(scene, 1).caps(0, 1, p).newton == 1);
 }
 
+TEST_CASE("budget controller: PCG caps per solve are what fits in the solve stage's share") {
+  SolverDesc scene;
+  scene.pcg_max_iterations = 1000;
+  StepProfile p;  // 10 ms: 2 ms outside the solve stage, two CG solves of 40 iterations at 0.1 ms
+  p.ms[static_cast<int>(Stage::Assemble)] = 2;
+  p.ms[static_cast<int>(Stage::Solve)] = 8;
+  p.iterations["pcg"] = 80;
+  p.iterations["pcg_solves"] = 2;
+  p.step_ms = 10;
+  CHECK(BudgetController(scene, 6).caps(0, 1, p).pcg == 20);  // (6 - 2) / 2 solves / 0.1 ms
+  CHECK(BudgetController(scene, 12).caps(2, 2, p).pcg == 15);  // 5 ms per step left: (5 - 2) / 2 / 0.1
+  CHECK(BudgetController(scene, 1e6).caps(0, 1, p).pcg == 1000);  // never above the scene's
+  CHECK(BudgetController(scene, 1).caps(0, 1, p).pcg == 1);  // over budget: one iteration a solve
+  // Newton's CG preconditioned by an older factorisation keeps its own cap: not counted.
+  StepProfile newton = p;
+  newton.iterations.clear();
+  newton.iterations["newton"] = 2;
+  newton.iterations["newton_pcg"] = 80;
+  CHECK(BudgetController(scene, 6).caps(0, 1, newton).pcg == 0);
+  // No CG last step: the scene's caps.
+  CHECK(BudgetController(scene, 6).caps(0, 1, linear_step(2)).pcg == 0);
+}
+
+TEST_CASE("iteration caps: PCG solves honour the budget's cap and report stopping above tolerance") {
+  const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"linear": "pcg"},
+    "bodies": [{"name": "b", "shape": [{"type": "box", "half_extents": [0.3, 0.1, 0.1]}], "cell_size": 0.05,
+      "material": {"E": 1e6, "nu": 0.3, "rho": 1000},
+      "fixed": [{"half_space": {"point": [-0.29, 0, 0], "normal": [1, 0, 0]}}]}]})";
+  const auto run = [&](int cap, int& most, int& unconverged) {
+    World world(build_model(parse_scene_text(text, "t", "."), [](const std::string&) {}));
+    most = unconverged = 0;
+    for (int s = 0; s < 10; ++s) {
+      world.mutable_state().caps.pcg = cap;
+      REQUIRE(world.step());
+      const auto& it = world.profile().iterations;
+      REQUIRE(it.at("pcg_solves") == 1);  // the velocity solve; no constraint
+      most = std::max(most, it.at("pcg"));
+      unconverged += it.count("pcg_unconverged") ? it.at("pcg_unconverged") : 0;
+    }
+  };
+  int most = 0, unconverged = 0;
+  run(0, most, unconverged);
+  CHECK(most > 3);  // the scene's solve needs more than the cap below
+  CHECK(unconverged == 0);
+  run(3, most, unconverged);
+  CHECK(most == 3);
+  CHECK(unconverged == 10);
+}
+
+TEST_CASE("iteration caps: Newton's CG preconditioned by an older factorisation ignores the PCG cap") {
+  const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"refactor_interval": 8, "newton_max_iterations": 1},
+    "bodies": [{"name": "b", "shape": [{"type": "box", "half_extents": [0.3, 0.1, 0.1]}], "cell_size": 0.05,
+      "elements": "tet", "material": {"model": "stable_neo_hookean", "E": 1e5, "nu": 0.45, "rho": 1000},
+      "fixed": [{"half_space": {"point": [-0.29, 0, 0], "normal": [1, 0, 0]}}]}]})";
+  const auto run = [&](int cap, int& most) {
+    World world(build_model(parse_scene_text(text, "t", "."), [](const std::string&) {}));
+    most = 0;
+    for (int s = 0; s < 8; ++s) {
+      world.mutable_state().caps.pcg = cap;
+      REQUIRE(world.step());
+      const auto& it = world.profile().iterations;
+      most = std::max(most, it.count("newton_pcg") ? it.at("newton_pcg") : 0);
+    }
+    return world.state_hash();
+  };
+  int most_uncapped = 0, most_capped = 0;
+  const auto uncapped = run(0, most_uncapped);
+  CHECK(run(1, most_capped) == uncapped);
+  CHECK(most_capped == most_uncapped);
+  CHECK(most_capped > 1);  // the cap would have cut them
+}
+
 TEST_CASE("iteration caps: a step honours caps below the scene's") {
   const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"sqp_max_iterations": 10},
     "bodies": [{"name": "b", "shape": [{"type": "box", "half_extents": [0.2, 0.1, 0.1]}], "cell_size": 0.1,
