@@ -13,7 +13,8 @@
 // proportion. PCG iterations per solve (solver.linear "pcg"): what fits in (L - the step's
 // time outside the solve stage) / its PCG solves, at the solve stage's cost per iteration.
 // Newton's CG preconditioned by an older factorisation keeps its own cap: cut further, its
-// directions destabilised the bunny_5 drop under a 5 ms budget (3 runs in 6 blew up).
+// directions destabilised the bunny_5 drop under a 5 ms budget (3 runs of 3 blew up, none of
+// 9 without the cut; bench/results/README.md, session 32).
 // Every cap stays >= 1: a step always makes progress.
 #include "engine/profile.hpp"
 #include "engine/scene/scene.hpp"
