@@ -45,6 +45,13 @@ struct IterationCaps {
   static int effective(int scene_cap, int cap) { return cap > 0 && cap < scene_cap ? cap : scene_cap; }
 };
 
+// solver.linear "pcg": CG solves of a step by where they ran (World::attempt_step), for the
+// real-time budget's PCG cap. Not written to the stats file (its counts are in `iterations`).
+struct PcgWork {
+  double step_ms = 0, constraint_ms = 0;  // wall time in the CG solves of stages 2-3 / of stage 4
+  int step_solves = 0, constraint_solves = 0;
+};
+
 struct StepProfile {
   std::array<double, kStageCount> ms{};               // wall time per stage
   std::array<std::string, kStageCount> skipped{};     // reason when a stage did no work
@@ -53,6 +60,7 @@ struct StepProfile {
                                                       // (sleeping_bodies: bodies asleep this step)
   ProfileMap<double> violation;                       // worst violation by kind
   StepWork work;
+  PcgWork pcg;
   double step_ms = 0;
   bool finite = true;
   // Room for every reason up front (the longest is 61 characters), so that a stage first
@@ -66,6 +74,7 @@ struct StepProfile {
     for (std::string& reason : skipped) reason.clear();
     rows.clear(), iterations.clear(), violation.clear();
     work = {};
+    pcg = {};
     step_ms = 0;
     finite = true;
   }

@@ -76,6 +76,9 @@ bool World::step() {
   const auto start = Clock::now();
   State& s = m_state;
   if (attempt_step()) return true;
+  // Retries run at the scene's caps: the budget's may be what made the step fail.
+  const IterationCaps caps = s.caps;
+  s.caps = {};
   const double t0 = s.t, h = m_model.h;
   const long count0 = s.step_count;
   const VecX& x0 = s.scratch.step_x0 = s.x;
@@ -98,6 +101,7 @@ bool World::step() {
     s.x = x0, s.v = v0, s.t = t0, s.step_count = count0;
   }
   set_step_size(h);
+  s.caps = caps;
   if (ok) {
     s.t = t0 + h;
     s.step_count = count0 + 1;
@@ -152,7 +156,6 @@ bool World::attempt_step() {
   if (s.sleep.changed) apply_sleeping_set();
   const int asleep = s.sleep.count();  // during this step
   const Model& model = stage_model();
-  m_solver.set_pcg_cap(s.caps.pcg);
   const long factorizations = m_solver.factorizations(), solves = m_solver.solves(), rows = s.rows.appended;
   const VecX& x0 = s.scratch.attempt_x0 = s.x;
   const VecX& v0 = s.scratch.attempt_v0 = s.v;
@@ -161,8 +164,23 @@ bool World::attempt_step() {
     StageTimer timer(s.profile, Stage::Assemble);
     assemble_system(model, s);
   }
+  // The budget's PCG cap holds for every PCG solve of the step, the constraint stage's
+  // (W's columns, the SQP's corrections) too; their counts and times by stage feed it back.
+  m_solver.set_pcg_cap(s.caps.pcg);
+  const LinearSolver::PcgTotals pcg_start = m_solver.pcg_totals();
   bool ok = model.has_hyperelastic ? solve_newton(model, m_solver, s) : solve_velocity(model, m_solver, s);
+  const LinearSolver::PcgTotals pcg_middle = m_solver.pcg_totals();
   if (ok) solve_constraints(model, m_solver, s);  // times its own sub-stages
+  if (!m_solver.uses_cholmod()) {
+    const LinearSolver::PcgTotals& pcg_end = m_solver.pcg_totals();
+    // Every step of a PCG scene, 0 included (a name first met in a warm step would allocate).
+    s.profile.iterations["pcg"] = static_cast<int>(pcg_end.iterations - pcg_start.iterations);
+    s.profile.iterations["pcg_solves"] = static_cast<int>(pcg_end.solves - pcg_start.solves);
+    s.profile.iterations["pcg_unconverged"] = static_cast<int>(pcg_end.unconverged - pcg_start.unconverged);
+    s.profile.pcg = {pcg_middle.ms - pcg_start.ms, pcg_end.ms - pcg_middle.ms,
+                     static_cast<int>(pcg_middle.solves - pcg_start.solves),
+                     static_cast<int>(pcg_end.solves - pcg_middle.solves)};
+  }
   // Driven nodes are not unknowns of the constraint solve, which leaves them at rest:
   // give them back the step's prescribed mean velocity (set by solve_newton).
   if (ok)

@@ -14,9 +14,10 @@ int count(const StepProfile& p, const char* key) {
 double stage_ms(const StepProfile& p, Stage s) { return p.ms[static_cast<int>(s)]; }
 
 // floor(available / cost) clamped to [1, cap]; the cap when the cost is unknown (zero).
+// Clamped as a double: a tiny cost could give a quotient past INT_MAX.
 int fit(double available, double cost, int cap) {
   if (cost <= 0) return cap;
-  return std::clamp(int(std::floor(std::max(available, 0.0) / cost)), 1, cap);
+  return int(std::clamp(std::floor(std::max(available, 0.0) / cost), 1.0, double(cap)));
 }
 
 }  // namespace
@@ -40,14 +41,25 @@ IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const St
   // PGS sweeps in proportion to what the SQP iterations had of what they needed.
   const double sqp_share = per_sqp > 0 ? std::clamp((per_step - fixed_ms - newton_ms) / (per_sqp * std::max(sqp, 1)), 0.0, 1.0) : 1.0;
   caps.pgs = std::max(1, int(std::floor(sqp_share * m_scene.pgs_max_iterations)));
-  // PCG iterations per solve (solver.linear "pcg"): what fits in the solve stage's share of
-  // the time left, the rest of the step costing what it did. The solve stage also holds
-  // non-CG work (Newton's line search), so this cost per iteration errs high.
+  // PCG iterations per solve (solver.linear "pcg"; the cap holds for all of a step's PCG
+  // solves, the constraint stage's columns and corrections too): what fits in the time left
+  // once the rest of the step is paid at the caps just set, SQP and Newton iterations and
+  // the PCG solves they make cut in proportion, at the last step's cost per CG iteration.
+  // Even when the rest alone overruns, PCG is cut to what is left (at least one iteration):
+  // a fixed budget does the least it can.
   const int pcg = count(last, "pcg");
-  const double solve_ms = stage_ms(last, Stage::Solve);
-  if (pcg > 0 && solve_ms > 0) {
-    const int solves = std::max(1, count(last, "pcg_solves"));
-    caps.pcg = fit((per_step - (last.step_ms - solve_ms)) / solves, solve_ms / pcg, m_scene.pcg_max_iterations);
+  const PcgWork& work = last.pcg;
+  const double pcg_ms = work.step_ms + work.constraint_ms;
+  if (pcg > 0 && pcg_ms > 0) {
+    const double kept_sqp = sqp > 0 ? std::min(caps.sqp, sqp) / double(sqp) : 1.0;
+    const double kept_newton = newton > 0 ? std::min(caps.newton, newton) / double(newton) : 1.0;
+    // Stages 2-3's CG time sits in Newton's iterations on hyperelastic steps, else in the
+    // fixed part; the constraint stage's in the SQP iterations.
+    const double rest =
+        (newton > 0 ? fixed_ms + kept_newton * std::max(0.0, newton_ms - work.step_ms) : std::max(0.0, fixed_ms - work.step_ms)) +
+        kept_sqp * std::max(0.0, sqp_ms - work.constraint_ms);
+    const double solves = std::max(1.0, std::round(work.step_solves * kept_newton + work.constraint_solves * kept_sqp));
+    caps.pcg = fit((per_step - rest) / solves, pcg_ms / pcg, m_scene.pcg_max_iterations);
   }
   return caps;
 }

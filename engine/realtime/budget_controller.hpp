@@ -10,8 +10,9 @@
 // iterations (rows + solves + PGS + the line search's products per iteration). The SQP cap is what fits after the fixed
 // part and the Newton iterations: floor((L - fixed - newton) / cost per SQP iteration); if
 // that is below one, the Newton cap is cut the same way and PGS sweeps are scaled down in
-// proportion. PCG iterations per solve (solver.linear "pcg"): what fits in (L - the step's
-// time outside the solve stage) / its PCG solves, at the solve stage's cost per iteration.
+// proportion. PCG iterations per solve (solver.linear "pcg", every PCG solve of the step):
+// what fits in L less the rest of the step at those caps, over its PCG solves (cut with the
+// SQP and Newton iterations that make them), at the last step's cost per CG iteration.
 // Newton's CG preconditioned by an older factorisation keeps its own cap: cut further, its
 // directions destabilised the bunny_5 drop under a 5 ms budget (3 runs of 3 blew up, none of
 // 9 without the cut; bench/results/README.md, session 32).

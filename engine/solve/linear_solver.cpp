@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 
 #include <stdexcept>
 
@@ -96,7 +97,6 @@ void LinearSolver::set_pcg_cap(int cap) {
 
 int LinearSolver::solve(const VecX& b, VecX& x) {
   ++m_solves;
-  m_last_converged = true;
   if (m_use_cholmod) {
     x.resize(b.size());
     if (tree_solve(b.data(), x.data())) {
@@ -111,9 +111,13 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
     return 1;
   }
   if (x.size() != b.size()) x.setZero(b.size());
+  const auto start = std::chrono::steady_clock::now();
   x = m_pcg.solveWithGuess(b, x);
   m_last_residual = m_pcg.error();
-  m_last_converged = m_pcg.info() == Eigen::Success;
+  m_pcg_totals.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  ++m_pcg_totals.solves;
+  m_pcg_totals.iterations += m_pcg.iterations();
+  if (m_pcg.info() != Eigen::Success) ++m_pcg_totals.unconverged;
   return static_cast<int>(m_pcg.iterations());
 }
 

@@ -36,9 +36,13 @@ class LinearSolver {
   // PCG's iteration cap per solve: the scene's pcg_max_iterations, or `cap` when that is
   // lower and positive (the real-time budget's IterationCaps::pcg; 0 restores the scene's).
   void set_pcg_cap(int cap);
-  // Whether the last solve() met its tolerance (always true with CHOLMOD): false when PCG
-  // stopped at its iteration cap, the scene's or the budget's.
-  bool last_solve_converged() const { return m_last_converged; }
+  // PCG solves since construction (solver.linear "pcg": solve() and solve_many's columns),
+  // their iterations, those stopped at a cap above pcg_tolerance, and their wall time.
+  struct PcgTotals {
+    long solves = 0, iterations = 0, unconverged = 0;
+    double ms = 0;
+  };
+  const PcgTotals& pcg_totals() const { return m_pcg_totals; }
   // CHOLMOD only: solves A x = b, A full symmetric (both triangles) and not the matrix last
   // factorised, by conjugate gradients preconditioned with that factorisation, from x = 0
   // until |b - A x| <= tolerance max(|b|, scale). Returns the iterations, or -1 when
@@ -88,7 +92,7 @@ class LinearSolver {
   bool m_use_cholmod = true;
   bool m_analyzed = false;
   double m_last_residual = 0;
-  bool m_last_converged = true;
+  PcgTotals m_pcg_totals;
   VecX m_residual, m_preconditioned, m_search, m_product;  // solve_preconditioned's, kept
   long m_factorizations = 0, m_solves = 0;
   SolverDesc m_desc;

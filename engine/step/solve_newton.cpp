@@ -167,7 +167,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   gather_free(model, state.v, v);
   state.v_start = v;
 
-  int newton = 0, linear = 0;
+  int newton = 0;
   double first_norm = -1;
   bool ok = true, factorised = false, exact = false;
   int exact_steps = 0;  // Newton directions from the exact Hessian (stats: newton_exact)
@@ -189,7 +189,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   bool may_reuse = state.step_count > 0 && solver.uses_cholmod() && ++state.factor_age < cfg.refactor_interval;
   bool preconditioning = false;
   int preconditioned_iterations = 0;
-  int pcg_solves = 0;  // solver.linear "pcg": the real-time budget shares its CG time among them
   // The assembled H moves into state.system by a swap (a copy took 0.1-0.3 ms a step); H's
   // storage then holds no Hessian until the next assembly.
   bool hessian_in_system = false;
@@ -300,8 +299,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       } else if (usable) {
         StageTimer timer(state.profile, Stage::Solve);
         direction.setZero(v.size());
-        linear += solver.solve(scratch.negative_gradient, direction);
-        if (!solver.uses_cholmod()) ++pcg_solves;
+        solver.solve(scratch.negative_gradient, direction);
       }
       if (usable) {
         slope = gradient.dot(direction);
@@ -379,8 +377,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // Reported on every Newton step, 0 included: a name first met in a warm step would
   // allocate (profile_map.hpp).
   state.profile.iterations["newton_predicted"] += state.impulse_predicted ? 1 : 0;
-  if (!solver.uses_cholmod()) state.profile.iterations["pcg"] += linear;
-  if (pcg_solves) state.profile.iterations["pcg_solves"] += pcg_solves;
+  // solver.linear "pcg": its counts come from World::attempt_step.
   return ok;
 }
 

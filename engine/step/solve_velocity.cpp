@@ -129,13 +129,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   const VecX& residual = state.start_residual;  // b - A v0, from assemble_system's element pass
   VecX& delta = state.scratch.step;
   delta.setZero(v0.size());
-  const int iterations = solver.solve(residual, delta);
-  if (!solver.uses_cholmod()) {
-    state.profile.iterations["pcg"] += iterations;
-    state.profile.iterations["pcg_solves"] += 1;  // the budget shares its CG time among them
-    // Stopped at its cap (the scene's, or the real-time budget's) above pcg_tolerance.
-    if (!solver.last_solve_converged()) state.profile.iterations["pcg_unconverged"] += 1;
-  }
+  solver.solve(residual, delta);  // PCG's counts: World::attempt_step
   state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];

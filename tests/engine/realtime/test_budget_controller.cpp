@@ -61,7 +61,7 @@ TEST_CASE("budget controller: Newton caps for hyperelastic steps") {
   CHECK(BudgetController(scene, 1).caps(0, 1, p).newton == 1);
 }
 
-TEST_CASE("budget controller: PCG caps per solve are what fits in the solve stage's share") {
+TEST_CASE("budget controller: PCG caps per solve are what fits in the time left") {
   SolverDesc scene;
   scene.pcg_max_iterations = 1000;
   StepProfile p;  // 10 ms: 2 ms outside the solve stage, two CG solves of 40 iterations at 0.1 ms
@@ -69,6 +69,7 @@ TEST_CASE("budget controller: PCG caps per solve are what fits in the solve stag
   p.ms[static_cast<int>(Stage::Solve)] = 8;
   p.iterations["pcg"] = 80;
   p.iterations["pcg_solves"] = 2;
+  p.pcg = {8, 0, 2, 0};
   p.step_ms = 10;
   CHECK(BudgetController(scene, 6).caps(0, 1, p).pcg == 20);  // (6 - 2) / 2 solves / 0.1 ms
   CHECK(BudgetController(scene, 12).caps(2, 2, p).pcg == 15);  // 5 ms per step left: (5 - 2) / 2 / 0.1
@@ -79,9 +80,51 @@ TEST_CASE("budget controller: PCG caps per solve are what fits in the solve stag
   newton.iterations.clear();
   newton.iterations["newton"] = 2;
   newton.iterations["newton_pcg"] = 80;
+  newton.pcg = {};
   CHECK(BudgetController(scene, 6).caps(0, 1, newton).pcg == 0);
   // No CG last step: the scene's caps.
   CHECK(BudgetController(scene, 6).caps(0, 1, linear_step(2)).pcg == 0);
+}
+
+TEST_CASE("budget controller: the PCG cap counts the rest of the step at its new caps") {
+  SolverDesc scene;
+  scene.sqp_max_iterations = 10;
+  scene.newton_max_iterations = 10;
+  scene.pcg_max_iterations = 1000;
+  // Linear path, 10 ms: 1 ms fixed, a 4 ms PCG solve of 40 iterations, 5 SQP iterations of
+  // 1 ms, in which 10 PCG solves (constraint columns) took 25 iterations, 2.5 ms.
+  StepProfile p = linear_step(0);
+  p.ms[static_cast<int>(Stage::Assemble)] = 1;
+  p.ms[static_cast<int>(Stage::Factorize)] = 0;
+  p.ms[static_cast<int>(Stage::Integrate)] = 0;
+  p.ms[static_cast<int>(Stage::Solve)] = 4;
+  p.ms[static_cast<int>(Stage::Rows)] = 5;
+  p.iterations["sqp"] = 5;
+  p.iterations["pcg"] = 65;
+  p.iterations["pcg_solves"] = 11;
+  p.pcg = {4, 2.5, 1, 10};
+  p.step_ms = 10;
+  // 6 ms: SQP cut to (6 - 5) / 1 = 1 iteration, a fifth: the rest costs 1 + 2.5 / 5 = 1.5 ms
+  // and makes 1 + 10 / 5 = 3 PCG solves, which share 4.5 ms at 0.1 ms an iteration: 15. Charged
+  // the 5 SQP iterations of the last step, it would have had 1 each.
+  const IterationCaps linear = BudgetController(scene, 6).caps(0, 1, p);
+  CHECK(linear.sqp == 1);
+  CHECK(linear.pcg == 15);
+  // Newton path, 14 ms: 2 iterations of assemble 2 + solve 4 (two PCG solves of 40
+  // iterations), 2 ms fixed. At 8 ms: Newton cut to (8 - 2) / 6 = 1 iteration, so one PCG
+  // solve next time, with 8 - 2 - 2 = 4 ms: 40 iterations.
+  StepProfile q;
+  q.ms[static_cast<int>(Stage::Assemble)] = 4;
+  q.ms[static_cast<int>(Stage::Solve)] = 8;
+  q.ms[static_cast<int>(Stage::Integrate)] = 2;
+  q.iterations["newton"] = 2;
+  q.iterations["pcg"] = 80;
+  q.iterations["pcg_solves"] = 2;
+  q.pcg = {8, 0, 2, 0};
+  q.step_ms = 14;
+  const IterationCaps newton = BudgetController(scene, 8).caps(0, 1, q);
+  CHECK(newton.newton == 1);
+  CHECK(newton.pcg == 40);
 }
 
 TEST_CASE("iteration caps: PCG solves honour the budget's cap and report stopping above tolerance") {
@@ -108,6 +151,46 @@ TEST_CASE("iteration caps: PCG solves honour the budget's cap and report stoppin
   run(3, most, unconverged);
   CHECK(most == 3);
   CHECK(unconverged == 10);
+}
+
+TEST_CASE("iteration caps: the PCG cap holds for the constraint stage's solves, counted by stage") {
+  // A box landing on a plane with PCG: the contact rows' columns of H^-1 and the SQP's
+  // corrections are PCG solves too, cut alike and reported apart from the velocity solve.
+  const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"linear": "pcg"},
+    "bodies": [{"name": "b", "shape": [{"type": "box", "half_extents": [0.2, 0.1, 0.1]}], "cell_size": 0.1,
+      "material": {"E": 1e5, "nu": 0.3, "rho": 1000}}],
+    "obstacles": [{"type": "plane", "point": [0, -0.12, 0], "normal": [0, 1, 0]}]})";
+  World world(build_model(parse_scene_text(text, "t", "."), [](const std::string&) {}));
+  int touching = 0;
+  for (int s = 0; s < 40; ++s) {
+    world.mutable_state().caps.pcg = 1;
+    REQUIRE(world.step());
+    const StepProfile& profile = world.profile();
+    const int solves = profile.iterations.at("pcg_solves");
+    CHECK(profile.iterations.at("pcg") <= solves);  // one iteration each at most
+    CHECK(solves == profile.pcg.step_solves + profile.pcg.constraint_solves);
+    CHECK(profile.pcg.step_solves == 1);
+    if (profile.pcg.constraint_solves > 0) ++touching;
+  }
+  CHECK(touching > 10);  // it landed: the constraint stage solved by PCG
+}
+
+TEST_CASE("iteration caps: Newton's PCG solves (solver.linear \"pcg\") honour the budget's cap") {
+  const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"linear": "pcg", "newton_max_iterations": 2},
+    "bodies": [{"name": "b", "shape": [{"type": "box", "half_extents": [0.3, 0.1, 0.1]}], "cell_size": 0.05,
+      "elements": "tet", "material": {"model": "stable_neo_hookean", "E": 1e5, "nu": 0.45, "rho": 1000},
+      "fixed": [{"half_space": {"point": [-0.29, 0, 0], "normal": [1, 0, 0]}}]}]})";
+  World world(build_model(parse_scene_text(text, "t", "."), [](const std::string&) {}));
+  int unconverged = 0;
+  for (int s = 0; s < 6; ++s) {
+    world.mutable_state().caps.pcg = 2;
+    REQUIRE(world.step());
+    const auto& it = world.profile().iterations;
+    REQUIRE(it.at("pcg_solves") >= 1);
+    CHECK(it.at("pcg") <= 2 * it.at("pcg_solves"));
+    unconverged += it.at("pcg_unconverged");
+  }
+  CHECK(unconverged > 0);  // two iterations do not reach pcg_tolerance 1e-8
 }
 
 TEST_CASE("iteration caps: Newton's CG preconditioned by an older factorisation ignores the PCG cap") {
