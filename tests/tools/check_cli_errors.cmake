@@ -2,7 +2,7 @@
 # line on stderr that names the program, the option and the value given (never an abort,
 # never a number read from half of it), and --help exits 0 describing every option. Only
 # bad-argument and --help runs: nothing is benchmarked. Usage:
-#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DOUT=dir -P this file.
+#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DREALTIME=... -DOUT=dir -P this file.
 cmake_minimum_required(VERSION 3.19)
 
 set(CHECK_NAME tools_cli_errors)
@@ -89,6 +89,13 @@ expect_help("${KERNELS}" --repeats --out)
 foreach(bad "--repeats;abc" "--repeats;3abc" "--repeats;0" "--bogus")
   list(GET bad 0 option)
   expect_refused("${KERNELS}" ${option} ${bad})
+endforeach()
+
+expect_help("${REALTIME}" --size --scene-file --frames --budget --threads --out)
+foreach(bad "--size;abc" "--size;0" "--frames;1.5" "--frames;0" "--budget;0" "--budget;fast" "--threads;0" "--bogus"
+            "--size;100;--scene-file;none.json")
+  list(GET bad 0 option)
+  expect_refused("${REALTIME}" ${option} ${bad})
 endforeach()
 
 message(STATUS "tools_cli_errors: bad options refused with exit code 2, --help complete")
