@@ -37,17 +37,15 @@ LinearSolver::SolveWorkspace::~SolveWorkspace() {
 LinearSolver::LinearSolver(const SolverDesc& desc)
     : m_use_cholmod(desc.linear != "pcg"),
       m_desc(desc),
-      m_single(std::make_unique<SolveWorkspace>()) {
-  m_pcg.setTolerance(desc.pcg_tolerance);
-  m_pcg.setMaxIterations(desc.pcg_max_iterations);
-}
+      m_single(std::make_unique<SolveWorkspace>()),
+      m_pcg_cap(desc.pcg_max_iterations) {}
 
 bool LinearSolver::factorize(const SparseMatrix& A) {
   ++m_factorizations;
   m_matrix = &A;
   if (!m_use_cholmod) {
-    m_pcg.compute(A);
-    return m_pcg.info() == Eigen::Success;
+    m_cg.compute(A);
+    return true;
   }
   if (!m_analyzed) {
     // Simplicial LDL^T below kSupernodalThreshold (the header says why there); above,
@@ -92,7 +90,7 @@ bool LinearSolver::honours_wanted_rows() const {
 }
 
 void LinearSolver::set_pcg_cap(int cap) {
-  m_pcg.setMaxIterations(IterationCaps::effective(m_desc.pcg_max_iterations, cap));
+  m_pcg_cap = IterationCaps::effective(m_desc.pcg_max_iterations, cap);
 }
 
 int LinearSolver::solve(const VecX& b, VecX& x) {
@@ -110,15 +108,14 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
     m_last_residual = 0;
     return 1;
   }
-  if (x.size() != b.size()) x.setZero(b.size());
   const auto start = std::chrono::steady_clock::now();
-  x = m_pcg.solveWithGuess(b, x);
-  m_last_residual = m_pcg.error();
+  const JacobiCg::Result result = m_cg.solve(*m_matrix, b, x, m_desc.pcg_tolerance, m_pcg_cap);
+  m_last_residual = result.error;
   m_pcg_totals.ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   ++m_pcg_totals.solves;
-  m_pcg_totals.iterations += m_pcg.iterations();
-  if (m_pcg.info() != Eigen::Success) ++m_pcg_totals.unconverged;
-  return static_cast<int>(m_pcg.iterations());
+  m_pcg_totals.iterations += result.iterations;
+  if (!result.converged) ++m_pcg_totals.unconverged;
+  return result.iterations;
 }
 
 int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance,
@@ -295,10 +292,12 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
     });
     return;
   }
+  // PCG: column by column from zero, through kept vectors (no allocation once warm).
   for (Eigen::Index c = 0; c < B.cols(); ++c) {
-    VecX col = VecX::Zero(B.rows());
-    solve(B.col(c), col);
-    X.col(c) = col;
+    m_column_b = B.col(c);
+    m_column_x.setZero(B.rows());
+    solve(m_column_b, m_column_x);
+    X.col(c) = m_column_x;
   }
 }
 

@@ -1,9 +1,8 @@
 #pragma once
 // The SPD solve of backward Euler (paper 000, eq. 19): CHOLMOD (symbolic analysis once per
-// topology, numeric factorisation per step) or Jacobi-preconditioned CG warm-started from
-// the previous velocities. Chosen by the scene's solver.linear.
+// topology, numeric factorisation per step) or Jacobi-preconditioned CG (jacobi_cg.hpp) from
+// the x passed in. Chosen by the scene's solver.linear.
 #include <Eigen/CholmodSupport>
-#include <Eigen/IterativeLinearSolvers>
 #include <memory>
 #include <vector>
 
@@ -12,6 +11,7 @@
 #include "engine/core/zeroed_columns.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/solve/cholmod_memory_pool.hpp"
+#include "engine/solve/jacobi_cg.hpp"
 #include "engine/solve/supernodal_block_solve.hpp"
 #include "engine/solve/supernodal_tree_solve.hpp"
 
@@ -135,9 +135,9 @@ class LinearSolver {
   std::vector<char> m_wanted;                        // solve_many's supernode mask, kept
   std::vector<std::unique_ptr<SolveWorkspace>> m_block_workspaces;
   std::unique_ptr<SolveWorkspace> m_single;  // solve(): one column, its buffers kept
-  Eigen::ConjugateGradient<SparseMatrix, Eigen::Lower | Eigen::Upper,
-                           Eigen::DiagonalPreconditioner<double>>
-      m_pcg;
+  JacobiCg m_cg;
+  int m_pcg_cap = 0;  // iterations per PCG solve in force (set_pcg_cap)
+  VecX m_column_b, m_column_x;  // solve_many's columns on the PCG path, kept
   const SparseMatrix* m_matrix = nullptr;
 };
 

@@ -157,6 +157,26 @@ TEST_CASE("a warm step allocates nothing, on 2 threads and on 1") {
   }
 }
 
+TEST_CASE("a warm PCG step allocates nothing (solver.linear \"pcg\", contact columns by CG)") {
+  for (const int threads : {2, 1}) {
+    tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
+    CAPTURE(threads);
+    sinew::SceneDesc scene = sinew::load_scene(std::string(SINEW_SOURCE_DIR) + "/assets/scenes/contact_box_on_plane.json");
+    scene.solver.linear = "pcg";
+    scene.solver.sleep_steps = 0;
+    sinew::World world(sinew::build_model(scene, [](const std::string&) {}), sinew::initial_velocities(scene));
+    for (int i = 0; i < 60; ++i) REQUIRE(world.step());
+    bool ok = true;
+    const Count count = allocations_during([&] {
+      for (int i = 0; i < 20 && ok; ++i) ok = world.step();
+    });
+    REQUIRE(ok);
+    REQUIRE(world.profile().iterations.at("pcg_solves") > 1);  // the contact rows' columns too
+    MESSAGE("contact_box_on_plane (pcg), " << threads << " thread(s): " << count.ours << " allocations in 20 steps");
+    CHECK(count.ours == 0);
+  }
+}
+
 TEST_CASE("row builders given the step's buffers allocate nothing on a thread that never ran them") {
   // build_rows runs the limits and the contacts as two tasks on whichever thread is free.
   // With buffers kept per thread, a worker running a builder for the first time after

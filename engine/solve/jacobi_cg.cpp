@@ -1,0 +1,58 @@
+#include "engine/solve/jacobi_cg.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/solve/system_product.hpp"
+
+namespace sinew {
+
+void JacobiCg::compute(const SparseMatrix& A) {
+  m_inverse_diagonal.resize(A.rows());
+  for (Eigen::Index i = 0; i < A.rows(); ++i) {
+    const double d = A.coeff(i, i);
+    m_inverse_diagonal[i] = d != 0 ? 1 / d : 1.0;
+  }
+}
+
+JacobiCg::Result JacobiCg::solve(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations) {
+  Result result;
+  if (x.size() != b.size()) x.setZero(b.size());
+  const double rhs2 = b.squaredNorm();
+  if (rhs2 == 0) {
+    x.setZero();
+    return result;
+  }
+  // Squared residual norms below this stop (the floor: a tolerance of 0 still ends).
+  const double threshold = std::max(tolerance * tolerance * rhs2, std::numeric_limits<double>::min());
+  VecX &r = m_residual, &z = m_preconditioned, &p = m_search, &q = m_product;
+  multiply_system(A, x, q);
+  r = b - q;
+  double residual2 = r.squaredNorm();
+  if (residual2 >= threshold) {
+    z = m_inverse_diagonal.cwiseProduct(r);
+    p = z;
+    double rz = r.dot(z);
+    while (result.iterations < max_iterations) {
+      multiply_system(A, p, q);
+      const double curvature = p.dot(q);
+      if (!(curvature > 0)) break;
+      const double alpha = rz / curvature;
+      x += alpha * p;
+      r -= alpha * q;
+      residual2 = r.squaredNorm();
+      ++result.iterations;
+      if (residual2 < threshold) break;
+      z = m_inverse_diagonal.cwiseProduct(r);
+      const double rz_next = r.dot(z);
+      p = z + (rz_next / rz) * p;
+      rz = rz_next;
+    }
+  }
+  result.error = std::sqrt(residual2 / rhs2);
+  result.converged = residual2 < threshold;
+  return result;
+}
+
+}  // namespace sinew
