@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include "engine/solve/system_product.hpp"
 
@@ -18,6 +19,8 @@ void JacobiCg::compute(const SparseMatrix& A) {
 
 JacobiCg::Result JacobiCg::solve(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations) {
   Result result;
+  if (A.rows() != b.size() || A.cols() != b.size() || m_inverse_diagonal.size() != b.size())
+    throw std::logic_error("JacobiCg::solve: A, b and the preconditioner (compute) differ in size");
   if (x.size() != b.size()) x.setZero(b.size());
   const double rhs2 = b.squaredNorm();
   if (rhs2 == 0) {
@@ -27,14 +30,20 @@ JacobiCg::Result JacobiCg::solve(const SparseMatrix& A, const VecX& b, VecX& x, 
   // Squared residual norms below this stop (the floor: a tolerance of 0 still ends).
   const double threshold = std::max(tolerance * tolerance * rhs2, std::numeric_limits<double>::min());
   VecX &r = m_residual, &z = m_preconditioned, &p = m_search, &q = m_product;
-  multiply_system(A, x, q);
-  r = b - q;
+  // From x = 0 (every column of solve_many, the velocity step) A x is 0: r = b, the same
+  // bits (b - (+-0) = b) without a product.
+  if (x.isZero(0)) {
+    r = b;
+  } else {
+    multiply_system(A, x, q);
+    r = b - q;
+  }
   double residual2 = r.squaredNorm();
   if (residual2 >= threshold) {
     z = m_inverse_diagonal.cwiseProduct(r);
     p = z;
     double rz = r.dot(z);
-    while (result.iterations < max_iterations) {
+    while (result.iterations < max_iterations && rz > 0) {  // rz <= 0: an indefinite diagonal
       multiply_system(A, p, q);
       const double curvature = p.dot(q);
       if (!(curvature > 0)) break;

@@ -20,7 +20,10 @@ class JacobiCg {
   void compute(const SparseMatrix& A);
   // A x = b from the x passed in (resized to zero if its size is not b's), until
   // |b - A x| < tolerance |b| or max_iterations; b = 0 gives x = 0. Stops unconverged, x as
-  // it was then, if a search direction shows no positive curvature (A not SPD).
+  // it was then, if a search direction shows no positive curvature (A not SPD) or the
+  // preconditioned residual no positive product (a negative diagonal). Throws
+  // std::logic_error if A, b and compute()'s matrix differ in size. Not for two threads at
+  // once: it works in the object's vectors.
   Result solve(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations);
 
  private:

@@ -108,6 +108,7 @@ int LinearSolver::solve(const VecX& b, VecX& x) {
     m_last_residual = 0;
     return 1;
   }
+  if (!m_matrix) throw std::logic_error("LinearSolver::solve before factorize on the PCG path");
   const auto start = std::chrono::steady_clock::now();
   const JacobiCg::Result result = m_cg.solve(*m_matrix, b, x, m_desc.pcg_tolerance, m_pcg_cap);
   m_last_residual = result.error;

@@ -92,8 +92,10 @@ foreach(bad "--repeats;abc" "--repeats;3abc" "--repeats;0" "--bogus")
 endforeach()
 
 expect_help("${REALTIME}" --size --scene-file --frames --budget --threads --out)
+file(WRITE "${OUT}/broken.json" "{\"bodies\": [")
 foreach(bad "--size;abc" "--size;0" "--frames;1.5" "--frames;0" "--budget;0" "--budget;fast" "--threads;0" "--bogus"
-            "--size;100;--scene-file;none.json")
+            "--size;100;--scene-file;none.json" "--scene-file;none.json" "--scene-file;${OUT}/broken.json"
+            "--out;${OUT}/no/such/folder/x.json")
   list(GET bad 0 option)
   expect_refused("${REALTIME}" ${option} ${bad})
 endforeach()
