@@ -96,7 +96,10 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   {
     StageTimer timer(state.profile, Stage::Factorize);
-    const bool reuse = state.step_count > 0 && ++state.factor_age < model.solver.refactor_interval;
+    // PCG never reuses: its "factorisation" is the diagonal and a pointer to the matrix its
+    // solves use, which must be this step's (a reused one could be an older step's matrix
+    // with constraint curvature in it).
+    const bool reuse = solver.uses_cholmod() && state.step_count > 0 && ++state.factor_age < model.solver.refactor_interval;
     if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
       // This step's factorisation would be the one the solver holds: keep it as this step's,
       // with what was solved with it. A G kept from an earlier factorisation (delassus_reuse)
