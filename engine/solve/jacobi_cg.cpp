@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "engine/solve/system_product.hpp"
+#include "engine/solve/conjugate_gradients.hpp"
 
 namespace sinew {
 
@@ -39,26 +39,10 @@ JacobiCg::Result JacobiCg::solve(const SparseMatrix& A, const VecX& b, VecX& x, 
     r = b - q;
   }
   double residual2 = r.squaredNorm();
-  if (residual2 >= threshold) {
-    z = m_inverse_diagonal.cwiseProduct(r);
-    p = z;
-    double rz = r.dot(z);
-    while (result.iterations < max_iterations && rz > 0) {  // rz <= 0: an indefinite diagonal
-      multiply_system(A, p, q);
-      const double curvature = p.dot(q);
-      if (!(curvature > 0)) break;
-      const double alpha = rz / curvature;
-      x += alpha * p;
-      r -= alpha * q;
-      residual2 = r.squaredNorm();
-      ++result.iterations;
-      if (residual2 < threshold) break;
-      z = m_inverse_diagonal.cwiseProduct(r);
-      const double rz_next = r.dot(z);
-      p = z + (rz_next / rz) * p;
-      rz = rz_next;
-    }
-  }
+  if (residual2 >= threshold)
+    conjugate_gradients(
+        A, x, r, z, p, q, max_iterations, [&](const VecX& from, VecX& to) { to = m_inverse_diagonal.cwiseProduct(from); },
+        [&](const VecX& residual) { return (residual2 = residual.squaredNorm()) < threshold; }, result.iterations);
   result.error = std::sqrt(residual2 / rhs2);
   result.converged = residual2 < threshold;
   return result;

@@ -11,7 +11,7 @@
 #include <stdexcept>
 
 #include "engine/profile.hpp"
-#include "engine/solve/system_product.hpp"
+#include "engine/solve/conjugate_gradients.hpp"
 
 namespace sinew {
 
@@ -126,24 +126,11 @@ int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, Vec
   x.setZero(b.size());
   r = b;
   if (r.norm() <= target) return 0;
-  solve(r, z);
-  p = z;
-  double rz = r.dot(z);
-  for (int it = 1; it <= max_iterations; ++it) {
-    multiply_system(A, p, q);
-    const double curvature = p.dot(q);
-    if (!(curvature > 0)) return -1;
-    const double alpha = rz / curvature;
-    x += alpha * p;
-    r -= alpha * q;
-    if (r.norm() <= target) return it;
-    if (it == max_iterations) break;  // no preconditioning for an iteration that will not run
-    solve(r, z);
-    const double rz_next = r.dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-  }
-  return -1;
+  int iterations = 0;
+  const CgEnd end = conjugate_gradients(
+      A, x, r, z, p, q, max_iterations, [&](const VecX& from, VecX& to) { solve(from, to); },
+      [&](const VecX& residual) { return residual.norm() <= target; }, iterations);
+  return end == CgEnd::Converged ? iterations : -1;
 }
 
 bool LinearSolver::tree_solve(const double* b, double* x) {
