@@ -99,6 +99,11 @@ struct State {
   bool factor_exact = false;         // the solver holds this step's A (solve): factorised this step, or
                                      // kept with every rotation within 1e-12 of its own (solve_velocity.cpp)
   int factor_age = 0;                // steps since the last factorisation (solve)
+  int factor_sqp = -1;               // SQP iterations of the step that made the factorisation (-1: none
+                                     // counted, or it refactorised within them) (constraints)
+  bool keep_curved_factor = false;   // the last step converged in at most factor_sqp SQP iterations
+                                     // with no refactorisation: a curved factorisation may serve
+                                     // the next step (solver.curved_refactor_interval; constraints)
   std::vector<Mat3> factor_rotations;  // per element, the R of the last factorisation's A (solve);
                                      // cleared where a factorisation must not be reused (world.cpp)
   std::vector<double> stiffness_scale;  // per element: its R Ke R^T's weight in A (0: none) (assemble)

@@ -30,6 +30,7 @@ World::World(Model model, const std::vector<Vec3>& initial_velocity)
   // No factorisation yet: the first step makes one whatever step_count a caller carries
   // over (ui's LiveScene rebuilds keep it), never reusing one it does not have.
   s.factor_age = m_model.solver.refactor_interval;
+  s.keep_curved_factor = false;
   s.factor_rotations.clear();
   s.surface.resize(m_model.bodies.size());
   update_surfaces(m_model, s);
@@ -52,6 +53,7 @@ void World::apply_sleeping_set() {
   s.v_free = VecX::Zero(3 * model.num_free);
   s.scratch.newton_predicted_impulse = VecX::Zero(3 * model.num_free);
   s.factor_age = m_model.solver.refactor_interval;  // no reuse of a factorisation of the old pattern
+  s.keep_curved_factor = false;
   s.factor_rotations.clear();
   s.touched_inverse.reset(model.num_free);
   s.row_columns.reset();
@@ -109,6 +111,7 @@ bool World::step() {
     // it (refactor_interval > 1), nor H^-1 from it (delassus_reuse > 1).
     if (substeps_used > 1) {
       s.factor_age = m_model.solver.refactor_interval;
+      s.keep_curved_factor = false;
       s.factor_rotations.clear();
       s.touched_inverse.reset(stage_model().num_free);
       s.has_constraint_impulse = s.constraint_impulse_steady = false;  // an impulse of a sub-step, h / substeps
@@ -130,6 +133,7 @@ void World::set_step_size(double h) {
 void World::forget_previous_step() {
   State& s = m_state;
   s.factor_age = m_model.solver.refactor_interval;
+  s.keep_curved_factor = false;
   s.factor_rotations.clear();
   s.touched_inverse.reset(stage_model().num_free);  // H^-1 kept from earlier steps (delassus_reuse)
   s.warm_start.clear();

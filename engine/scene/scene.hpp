@@ -181,6 +181,12 @@ struct SolverDesc {
   // the same tolerances, at a fraction of the cost while rotations change slowly; a step
   // without SQP iterations keeps the one Newton step of the older H (docs/scenes.md).
   int refactor_interval = 1;
+  // A factorisation that carries the constraints' curvature (energy or strain limits with
+  // force) is not the step's A either way, so it is kept for up to this many steps while
+  // every step after it converges in no more SQP iterations than the step that made it
+  // (and refactorises none); 1: a curved system is factorised every step. The settled
+  // side-pressed finger: one factorisation in ~16 steps instead of every step.
+  int curved_refactor_interval = 16;
   // Keep H^-1 on the nodes constraint rows touch (touched_inverse.hpp) for up to this many
   // steps across refactorisations, topping it up with the current factor for nodes touched
   // for the first time. The LCP then runs on that approximate W, corrected by the exact

@@ -262,6 +262,7 @@ void settle_curvature(const Model& model, State& s) {
 // "SQP globalisation").
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
+  s.keep_curved_factor = false;  // until this step's SQP says otherwise (the end)
   const bool constrained = has_constraints(model, s);
   // Nothing can make a row: v* ends the step, whatever the factorisation it came from (with
   // an older one the loop below would end there too, reporting "no near-active constraint").
@@ -352,6 +353,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // steps taken: a QP step whose halvings all fail moves 1/32 of itself, and within the
     // tolerances that ends the step (the merit found nothing better along it).
     constexpr int kBacktracks = 5;
+    // A first trial that meets every row's tolerance and moves no node further than
+    // sqp_position_tolerance ends the step as converged whatever the merit says: at that
+    // scale the merit's change is round-off and second-order terms of the rows, and the
+    // halvings (a row build each) only shorten a step the test below accepts anyway (the
+    // settled side-pressed finger: 5 failed halvings on most steps, 1/32 of the QP's
+    // step taken).
+    // (last_move is still the QP step's own length h |d|, as the test judges it.)
+    if (searching && worst <= 1 && last_move <= cfg.sqp_position_tolerance) searching = false;
     for (int back = 0; searching; ++back) {
       const double change = merit_step.change(alpha, merit.penalty(s.rows, h));
       if (change <= 1e-4 * alpha * merit_step.predicted_change() || back == kBacktracks) break;
@@ -703,6 +712,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   for (int kind = 0; kind < kRowKindCount; ++kind)
     if (const int n = s.rows.count(static_cast<RowKind>(kind))) profile.rows[row_kind_name(static_cast<RowKind>(kind))] = n;
   profile.iterations["sqp"] += sqp;
+  // What a curved factorisation is worth to the next step (solve_velocity.cpp): the SQP
+  // iterations of the step that made it are the yardstick, and a step that needs more, or
+  // refactorises, or ends outside its tolerances, has the next one factorise afresh.
+  if (s.factor_age == 0) s.factor_sqp = refactorisations ? -1 : sqp;
+  s.keep_curved_factor = converged && refactorisations == 0 && sqp > 0 && sqp <= s.factor_sqp;
   profile.iterations["pgs"] += pgs;
   if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
   // Reported whenever PGS ran with subspace steps on, 0 included: a name first met in a

@@ -99,7 +99,15 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     // PCG never reuses: its "factorisation" is the diagonal and a pointer to the matrix its
     // solves use, which must be this step's (a reused one could be an older step's matrix
     // with constraint curvature in it).
-    const bool reuse = solver.uses_cholmod() && state.step_count > 0 && ++state.factor_age < model.solver.refactor_interval;
+    // A curved factorisation (the constraints' curvature in H) is not the step's A either
+    // way: the SQP iterations converge from it as from a fresh one, and keeping it while
+    // they take no more iterations than the step that made it saves a factorisation and
+    // its curvature blocks (strain rows: 10 constraint evaluations per tet).
+    ++state.factor_age;
+    const bool reuse = solver.uses_cholmod() && state.step_count > 0 &&
+                       (state.factor_age < model.solver.refactor_interval ||
+                        (state.factor_curved && state.keep_curved_factor &&
+                         state.factor_age < model.solver.curved_refactor_interval));
     if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
       // This step's factorisation would be the one the solver holds: keep it as this step's,
       // with what was solved with it. A G kept from an earlier factorisation (delassus_reuse)
