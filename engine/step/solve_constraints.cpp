@@ -359,8 +359,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // halvings (a row build each) only shorten a step the test below accepts anyway (the
     // settled side-pressed finger: 5 failed halvings on most steps, 1/32 of the QP's
     // step taken).
-    // (last_move is still the QP step's own length h |d|, as the test judges it.)
-    if (searching && worst <= 1 && last_move <= cfg.sqp_position_tolerance) searching = false;
+    // (last_move is still the QP step's own length h |d|, as the test judges it; a
+    // conjugate step's first trial may be up to twice it, and must be within it too.)
+    if (searching && worst <= 1 && std::max(1.0, alpha) * last_move <= cfg.sqp_position_tolerance)
+      searching = false;
     for (int back = 0; searching; ++back) {
       const double change = merit_step.change(alpha, merit.penalty(s.rows, h));
       if (change <= 1e-4 * alpha * merit_step.predicted_change() || back == kBacktracks) break;
@@ -714,9 +716,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   profile.iterations["sqp"] += sqp;
   // What a curved factorisation is worth to the next step (solve_velocity.cpp): the SQP
   // iterations of the step that made it are the yardstick, and a step that needs more, or
-  // refactorises, or ends outside its tolerances, has the next one factorise afresh.
+  // refactorises, or stalls (accepted at the looser sqp_stall_tolerance: an older H is a
+  // likely cause), or ends outside its tolerances, has the next one factorise afresh.
   if (s.factor_age == 0) s.factor_sqp = refactorisations ? -1 : sqp;
-  s.keep_curved_factor = converged && refactorisations == 0 && sqp > 0 && sqp <= s.factor_sqp;
+  s.keep_curved_factor =
+      converged && refactorisations == 0 && stalls_accepted == 0 && sqp > 0 && sqp <= s.factor_sqp;
   profile.iterations["pgs"] += pgs;
   if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
   // Reported whenever PGS ran with subspace steps on, 0 included: a name first met in a

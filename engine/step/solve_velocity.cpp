@@ -106,7 +106,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     ++state.factor_age;
     const bool reuse = solver.uses_cholmod() && state.step_count > 0 &&
                        (state.factor_age < model.solver.refactor_interval ||
-                        (state.factor_curved && state.keep_curved_factor &&
+                        (state.factor_curved && state.keep_curved_factor && !state.factor_rotations.empty() &&
                          state.factor_age < model.solver.curved_refactor_interval));
     if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
       // This step's factorisation would be the one the solver holds: keep it as this step's,
@@ -118,6 +118,8 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
       state.profile.skipped[static_cast<int>(Stage::Factorize)] = "no rotation moved since the last factorisation";
     } else if (reuse) {
       state.factor_exact = false;
+      // A G kept from before this factorisation (delassus_reuse) ages as at a factorisation.
+      if (state.touched_inverse.stale() && !touched_inverse_young(model, state)) state.touched_inverse.reset(model.num_free);
       // PCG keeps no factor: its solves use this step's matrix, so columns of H^-1 solved
       // in an earlier step are stale.
       if (!solver.uses_cholmod()) {

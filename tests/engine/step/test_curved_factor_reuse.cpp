@@ -77,13 +77,35 @@ TEST_CASE("curved factor reuse: curved_refactor_interval 1 factorises every cons
   }
 }
 
+TEST_CASE("curved factor reuse: a factorisation whose rotations were forgotten is not reused") {
+  // What world.cpp does at a retry, sub-steps or a change of the sleeping set: the next step
+  // factorises, whatever keep_curved_factor says.
+  World world(build_model(side_finger(16), [](const std::string&) {}), initial_velocities(side_finger(16)));
+  int forced = 0;
+  for (int step = 0; step < 60; ++step) {
+    REQUIRE(world.step());
+    if (step < 30 || !world.state().keep_curved_factor) continue;
+    world.mutable_state().factor_rotations.clear();
+    REQUIRE(world.step());
+    CAPTURE(step);
+    CHECK(world.profile().skipped[static_cast<int>(Stage::Factorize)] != kReusing);
+    ++forced;
+  }
+  REQUIRE(forced >= 5);  // the settled steps keep their factorisation
+}
+
 TEST_CASE("sqp line search: a first trial within every tolerance is not halved") {
   // Settled, the finger's QP steps move nodes by less than sqp_position_tolerance and meet
   // every row; the merit's change at that scale is round-off and the rows' second-order
   // terms, which made 5 halvings (5 row builds, 1/32 of the step taken) the rule on most
   // steps from 35 to 55 (60 halvings there without the rule, checked).
   World world(build_model(side_finger(16), [](const std::string&) {}), initial_velocities(side_finger(16)));
-  for (int step = 0; step < 35; ++step) REQUIRE(world.step());
+  int early_backtracks = 0;  // large steps, while the press loads: the search still runs
+  for (int step = 0; step < 35; ++step) {
+    REQUIRE(world.step());
+    early_backtracks += count(world.profile(), "sqp_backtracks");
+  }
+  CHECK(early_backtracks > 0);
   int backtracks = 0, converged_in_one = 0;
   for (int step = 35; step < 55; ++step) {
     REQUIRE(world.step());
