@@ -98,7 +98,7 @@ void Delassus::build_column(int i) const {
   for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) {
     const int a = 3 * m_local[e];
     const Vec3& j = m_jac[e];
-    column += G.col(a) * j[0] + G.col(a + 1) * j[1] + G.col(a + 2) * j[2];
+    add_scaled3(column.data(), G.col(a).data(), G.col(a + 1).data(), G.col(a + 2).data(), j[0], j[1], j[2], m_k3);
   }
   m_column_built[i] = 1;
 }

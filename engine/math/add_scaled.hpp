@@ -7,4 +7,10 @@ namespace sinew {
 
 void add_scaled(double* y, const double* x, double a, int n);
 
+// y += (x0 a0 + x1 a1) + x2 a2 over n doubles, in that order, each product rounded on its
+// own: the bits of Eigen's `y += x0 * a0 + x1 * a1 + x2 * a2` on the build's baseline.
+// Delassus columns (T = G J^T, one node's three columns of G per stencil entry).
+void add_scaled3(double* y, const double* x0, const double* x1, const double* x2, double a0, double a1, double a2,
+                 int n);
+
 }  // namespace sinew

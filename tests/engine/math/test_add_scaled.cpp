@@ -48,3 +48,40 @@ TEST_CASE("add_scaled: the same bits as y[i] + x[i] * a, for every length and al
   // The check above could tell a fused path from this one.
   CHECK(fused_would_differ > 200);
 }
+
+TEST_CASE("add_scaled3: the same bits as y[i] + ((x0[i] a0 + x1[i] a1) + x2[i] a2), on both paths") {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  int fused_would_differ = 0;
+  for (const bool avx2 : {true, false}) {
+    for (int n = 0; n <= 37; ++n)
+      for (int offset = 0; offset < 4; ++offset) {
+        std::vector<double> x0(n + offset), x1(n + offset), x2(n + offset), y(n + offset), expected;
+        for (auto* v : {&x0, &x1, &x2, &y})
+          for (double& e : *v) e = value(rng);
+        const double a0 = value(rng) * 1e3, a1 = value(rng) * 1e3, a2 = value(rng) * 1e3;
+        expected = y;
+        for (int i = offset; i < n + offset; ++i) {
+          volatile double p0 = x0[i] * a0, p1 = x1[i] * a1, p2 = x2[i] * a2;  // each rounded on its own
+          volatile double sum = p0 + p1;
+          expected[i] = y[i] + (sum + p2);
+          fused_would_differ += std::fma(x2[i], a2, std::fma(x1[i], a1, x0[i] * a0)) + y[i] != expected[i];
+        }
+        const auto run = [&] {
+          add_scaled3(y.data() + offset, x0.data() + offset, x1.data() + offset, x2.data() + offset, a0, a1, a2, n);
+        };
+        if (avx2) {
+          run();
+        } else {
+          const BaselineKernelsOnly baseline;
+          REQUIRE_FALSE(use_avx2());
+          run();
+        }
+        CAPTURE(avx2);
+        CAPTURE(n);
+        CAPTURE(offset);
+        CHECK((y.empty() || std::memcmp(y.data(), expected.data(), sizeof(double) * y.size()) == 0));
+      }
+  }
+  CHECK(fused_would_differ > 0);  // the check above could tell a contracted path from this one
+}
