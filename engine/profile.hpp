@@ -62,6 +62,7 @@ struct StepProfile {
   StepWork work;
   PcgWork pcg;
   double step_ms = 0;
+  double rolled_back_ms = 0;  // of step_ms, in an attempt rolled back before the one that stood
   bool finite = true;
   // Room for every reason up front (the longest is 61 characters), so that a stage first
   // skipped in a warm step does not allocate.
@@ -76,6 +77,7 @@ struct StepProfile {
     work = {};
     pcg = {};
     step_ms = 0;
+    rolled_back_ms = 0;
     finite = true;
   }
   // The constraint solve's time: its stages' sum (is_constraint_stage).

@@ -44,6 +44,7 @@ class World {
   void forget_previous_step();
 
   Model m_model;
+  bool m_budget_guard_tripped = false;  // the last attempt_step failed the budget's violation limit
   std::unique_ptr<Model> m_frozen;  // sleepers frozen (engine/sleep/sleep.hpp); null when all are awake
   State m_state;
   LinearSolver m_solver;

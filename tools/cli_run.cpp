@@ -39,8 +39,10 @@ Options run_options() {
                           "                          spins the last 4 ms before each frame, so that the frame's first\n"
                           "                          parallel stage finds them awake. Not deterministic"},
        {"--budget", "MS", "simulation budget per frame in ms (with or without --realtime): SQP, PGS,\n"
-                          "                          Newton and PCG caps adapt to what is left of it. Not deterministic;\n"
-                          "                          without --budget and --realtime the scene's caps hold"},
+                          "                          Newton and PCG caps adapt to what is left of it; a step they leave\n"
+                          "                          more than solver.budget_violation_limit tolerances past a constraint\n"
+                          "                          is redone at the scene's caps. Not deterministic; without --budget\n"
+                          "                          and --realtime the scene's caps hold"},
        {"--quiet", "", "print nothing but errors"}};
   for (OptionSpec& s : render_option_specs()) specs.push_back(std::move(s));
   return Options("sinew run SCENE [options]",

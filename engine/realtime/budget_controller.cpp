@@ -22,7 +22,8 @@ int fit(double available, double cost, int cap) {
 
 }  // namespace
 
-IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const StepProfile& last) const {
+IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const StepProfile& last,
+                                     const FactorisationForecast& next) const {
   IterationCaps caps;
   if (last.step_ms <= 0 || steps_left <= 0) return caps;  // nothing measured yet: the scene's caps
   const double per_step = (m_budget_ms - elapsed_ms) / steps_left;
@@ -32,7 +33,19 @@ IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const St
   // Newton iterations are the assemble + factorize + solve stages of a hyperelastic step.
   const double newton_ms =
       newton > 0 ? stage_ms(last, Stage::Assemble) + stage_ms(last, Stage::Factorize) + stage_ms(last, Stage::Solve) : 0;
-  const double fixed_ms = std::max(0.0, last.step_ms - sqp_ms - newton_ms);
+  // The fixed part, with the next step's factorisation in it or not (curved_refactor_interval
+  // keeps one for up to 16 steps: the step after such a run would be under-forecast by a
+  // whole factorisation, and the one after a factorisation over-forecast).
+  double factorisation_change = 0;
+  if (next.known && newton == 0) {
+    const bool last_factorised = last.skipped[static_cast<int>(Stage::Factorize)].empty();
+    factorisation_change = (next.factorises ? next.factorize_ms : 0.0) - (last_factorised ? stage_ms(last, Stage::Factorize) : 0.0);
+  }
+  // A step retried after the budget's caps left it outside its tolerances (World::step) is
+  // judged by the attempt that stood: the rolled-back one would otherwise read as fixed cost
+  // and cut the next step's caps to nothing, tripping the guard again.
+  const double fixed_ms =
+      std::max(0.0, last.step_ms - last.rolled_back_ms - sqp_ms - newton_ms + factorisation_change);
   const double per_sqp = sqp > 0 ? sqp_ms / sqp : 0, per_newton = newton > 0 ? newton_ms / newton : 0;
 
   caps.sqp = fit(per_step - fixed_ms - newton_ms, per_sqp, m_scene.sqp_max_iterations);

@@ -22,6 +22,16 @@
 
 namespace sinew {
 
+// What the next step will do with the factorisation (stages 2-3 of a scene without
+// hyperelastic bodies, whose Newton iterations are forecast on their own): a step that
+// reuses one costs the last step's time less its factorisation, and one that factorises
+// after a step that reused costs the last factorisation's time more.
+struct FactorisationForecast {
+  bool known = false;        // false: the last step's fixed part as it was
+  bool factorises = false;   // the next step factorises (reuses_factorisation, stages.hpp)
+  double factorize_ms = 0;   // the last factorisation's time (0: none measured yet)
+};
+
 class BudgetController {
  public:
   BudgetController(const SolverDesc& scene, double budget_ms) : m_scene(scene), m_budget_ms(budget_ms) {}
@@ -29,7 +39,8 @@ class BudgetController {
   // Caps for the next step: `elapsed_ms` spent on this frame so far, `steps_left` steps of it
   // still to run (this one included), `last` the previous step's profile (empty before the first:
   // the scene's caps).
-  IterationCaps caps(double elapsed_ms, int steps_left, const StepProfile& last) const;
+  IterationCaps caps(double elapsed_ms, int steps_left, const StepProfile& last,
+                     const FactorisationForecast& next = {}) const;
 
   double budget_ms() const { return m_budget_ms; }
 

@@ -3,6 +3,7 @@
 #include <thread>
 
 #include "engine/realtime/worker_warmup.hpp"
+#include "engine/step/stages.hpp"
 
 namespace sinew {
 
@@ -27,7 +28,14 @@ FrameStats RealtimeLoop::frame(World& world, int steps) {
       return;
     }
     const double elapsed = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
-    world.mutable_state().caps = m_budget->caps(elapsed, steps - i, world.profile());
+    const StepProfile& last = world.profile();
+    if (last.step_ms > 0 && last.skipped[static_cast<int>(Stage::Factorize)].empty())
+      m_factorize_ms = last.ms[static_cast<int>(Stage::Factorize)];
+    FactorisationForecast next;
+    next.known = true;
+    next.factorises = !reuses_factorisation(world.model(), world.model().solver.linear != "pcg", world.state());
+    next.factorize_ms = m_factorize_ms;
+    world.mutable_state().caps = m_budget->caps(elapsed, steps - i, last, next);
   });
   const double frame_ms = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
   ++m_counters.frames;

@@ -41,6 +41,7 @@ class RealtimeLoop {
   RealtimeSettings m_settings;
   std::optional<BudgetController> m_budget;
   RealtimeCounters m_counters;
+  double m_factorize_ms = 0;  // the last factorisation's time, for the budget's forecast
   Clock::time_point m_start;
 };
 

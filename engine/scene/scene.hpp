@@ -199,6 +199,10 @@ struct SolverDesc {
   double contact_margin = -1;      // m, rows for vertices nearer than this; < 0: a quarter of the body's cell size
   double body_friction = 0.5;      // Coulomb mu between two bodies
   double max_speed = 1e4;          // m/s: a step that makes any node faster diverged (rolled back, run stops)
+  // A step run at lower caps than the scene's (the real-time budget) that ends with some
+  // constraint more than this many times its tolerance past it is rolled back and retried
+  // at the scene's caps: a budget trades accuracy, never stability.
+  double budget_violation_limit = 10;
   double strain_tolerance = 1e-3;  // worst strain-limit violation (stretch) SQP accepts
   double strain_activation_margin = 0.005;  // rows for constraints with C < this (stretch, predicted)
   // Newton on the incremental potential (hyperelastic bodies, paper 003).

@@ -61,6 +61,10 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
     // new pattern (a change of the sleeping set): 109 -> 871 ms on a 32k-DOF grid. Set on
     // every analysis: the common outlives patterns of other sizes.
     cholmod_common& common = m_cholmod.cholmod();
+    // Errors only: a matrix that is not positive definite comes back as factorize's false,
+    // which every caller handles and counts (curvature_dropped, a retried step); CHOLMOD's own
+    // warning line per failure filled a budgeted run's terminal (80 in 90 frames).
+    common.print = 1;
     if (A.rows() >= kSupernodalThreshold && A.rows() <= kNestedDissectionLimit) {
       common.nmethods = 2;
       common.method[0].ordering = CHOLMOD_AMD;

@@ -263,6 +263,7 @@ void settle_curvature(const Model& model, State& s) {
 void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
   s.keep_curved_factor = false;  // until this step's SQP says otherwise (the end)
+  s.step_violation = 0;
   const bool constrained = has_constraints(model, s);
   // Nothing can make a row: v* ends the step, whatever the factorisation it came from (with
   // an older one the loop below would end there too, reporting "no near-active constraint").
@@ -316,12 +317,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     StageTimer timer(profile, Stage::Rows);
     if (!constrained) {
       s.rows.clear();
-      return 0.0;
+      return s.step_violation = 0.0;
     }
     ++profile.work.row_builds;
     sc.x_iterate = x0 + h * s.v;
-    return build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows, s.body_surfaces,
-                      s.energy_screen, sc, profile);
+    // Every way out of the loop below builds the rows at the step's last iterate: this is
+    // then the step's violation.
+    return s.step_violation = build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows,
+                                         s.body_surfaces, s.energy_screen, sc, profile);
   };
   // v* violates something. When the previous step was constrained too, v* has left out
   // the forces that held the body (a finger pressed on a table: v* runs 0.5 m through

@@ -93,6 +93,14 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
   return factorize_recording(solver, state, state.system);
 }
 
+bool reuses_factorisation(const Model& model, bool uses_cholmod, const State& state) {
+  const int age = state.factor_age + 1;  // at the next step
+  return uses_cholmod && state.step_count > 0 &&
+         (age < model.solver.refactor_interval ||
+          (state.factor_curved && state.keep_curved_factor && !state.factor_rotations.empty() &&
+           age < model.solver.curved_refactor_interval));
+}
+
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   {
     StageTimer timer(state.profile, Stage::Factorize);
@@ -103,11 +111,8 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     // way: the SQP iterations converge from it as from a fresh one, and keeping it while
     // they take no more iterations than the step that made it saves a factorisation and
     // its curvature blocks (strain rows: 10 constraint evaluations per tet).
+    const bool reuse = reuses_factorisation(model, solver.uses_cholmod(), state);
     ++state.factor_age;
-    const bool reuse = solver.uses_cholmod() && state.step_count > 0 &&
-                       (state.factor_age < model.solver.refactor_interval ||
-                        (state.factor_curved && state.keep_curved_factor && !state.factor_rotations.empty() &&
-                         state.factor_age < model.solver.curved_refactor_interval));
     if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
       // This step's factorisation would be the one the solver holds: keep it as this step's,
       // with what was solved with it. A G kept from an earlier factorisation (delassus_reuse)

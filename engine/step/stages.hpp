@@ -27,6 +27,11 @@ void multiply_step_system(const Model& model, const State& state, const VecX& x1
 //      constraints) and take the Newton step v = v0 + H^-1 (b - A v0), which is v* = A^-1 b
 //      when H = A; scattered into state.v (fixed nodes: 0). False if factorisation failed.
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state);
+// Whether the next solve_velocity keeps the factorisation it holds by refactor_interval or
+// curved_refactor_interval (solve_velocity decides by this; it may also keep one whose
+// rotations did not move, which only the step's assembly can tell). `uses_cholmod`: PCG
+// never keeps one. For the real-time budget's forecast of the next step's cost.
+bool reuses_factorisation(const Model& model, bool uses_cholmod, const State& state);
 // The factorisation alone. H^-1 on the touched nodes (state.touched_inverse) is forgotten,
 // or kept as an approximation while solver.delassus_reuse allows and `may_keep_delassus`.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus = true);

@@ -2,6 +2,8 @@
 // solver stages honouring the caps.
 #include <doctest/doctest.h>
 
+#include <limits>
+
 #include "engine/realtime/budget_controller.hpp"
 #include "engine/world.hpp"
 
@@ -46,6 +48,38 @@ TEST_CASE("budget controller: SQP caps are what fits in the time left per step")
   const IterationCaps late = budget.caps(20, 1, linear_step(4));
   CHECK(late.sqp == 1);
   CHECK(late.pgs == 1);
+}
+
+TEST_CASE("budget controller: the next step's factorisation is forecast, not the last step's repeated") {
+  SolverDesc scene;
+  scene.sqp_max_iterations = 20;
+  const BudgetController budget(scene, 16.0);
+  // The last step factorised (0.3 ms of its 1 ms fixed part).
+  const StepProfile factorised = linear_step(4);
+  StepProfile reused = linear_step(4);  // the same, but it kept an earlier factorisation
+  reused.ms[static_cast<int>(Stage::Factorize)] = 0;
+  reused.skipped[static_cast<int>(Stage::Factorize)] = "reusing the factorisation of an earlier step";
+  reused.step_ms -= 0.3;
+  FactorisationForecast next;
+  next.known = true;
+  // After a step that reused it, a factorisation of 5 ms is due: fixed 0.7 + 5 ms, so
+  // floor((16 - 5.7) / 2) = 5 SQP iterations (without the forecast: floor(15.3 / 2) = 7).
+  next.factorises = true;
+  next.factorize_ms = 5.0;
+  CHECK(budget.caps(0, 1, reused, next).sqp == 5);
+  CHECK(budget.caps(0, 1, reused).sqp == 7);
+  // After a step that factorised, the next keeps it: its fixed part is the last one's less
+  // the factorisation.
+  next.factorises = false;
+  StepProfile heavy = linear_step(4);  // a 2.5 ms factorisation in a 3.2 ms fixed part
+  heavy.ms[static_cast<int>(Stage::Factorize)] = 2.5;
+  heavy.step_ms += 2.2;
+  CHECK(budget.caps(0, 1, heavy, next).sqp == 7);   // floor((16 - 0.7) / 2)
+  CHECK(budget.caps(0, 1, heavy).sqp == 6);         // floor((16 - 3.2) / 2)
+  // Both factorise: the last one's time stands for the next one's.
+  next.factorises = true;
+  next.factorize_ms = 2.5;
+  CHECK(budget.caps(0, 1, heavy, next).sqp == 6);
 }
 
 TEST_CASE("budget controller: Newton caps for hyperelastic steps") {
@@ -156,7 +190,10 @@ TEST_CASE("iteration caps: PCG solves honour the budget's cap and report stoppin
 TEST_CASE("iteration caps: the PCG cap holds for the constraint stage's solves, counted by stage") {
   // A box landing on a plane with PCG: the contact rows' columns of H^-1 and the SQP's
   // corrections are PCG solves too, cut alike and reported apart from the velocity solve.
-  const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"linear": "pcg"},
+  // One CG iteration a solve leaves the box over 1 mm (10 contact tolerances) deep on some
+  // steps: the budget guard, which would redo those at the scene's caps, is off here (it is
+  // tested below).
+  const std::string text = R"({"gravity": [0, -9.81, 0], "solver": {"linear": "pcg", "budget_violation_limit": 1e300},
     "bodies": [{"name": "b", "shape": [{"type": "box", "half_extents": [0.2, 0.1, 0.1]}], "cell_size": 0.1,
       "material": {"E": 1e5, "nu": 0.3, "rho": 1000}}],
     "obstacles": [{"type": "plane", "point": [0, -0.12, 0], "normal": [0, 1, 0]}]})";
@@ -233,4 +270,46 @@ TEST_CASE("iteration caps: a step honours caps below the scene's") {
   CHECK(most_sqp == 1);
   CHECK(most_pgs <= 3);  // one SQP iteration of at most 3 sweeps
   CHECK(most_pgs >= 1);  // the box did land: the LCP ran
+}
+
+namespace {
+
+// The flat-pressed finger with every step capped at one QP of one PGS sweep (what a tight
+// budget sets), without sleep; the worst step_violation seen and the guard's retries.
+struct CappedRun {
+  double worst = 0;
+  int guard_retries = 0;
+};
+
+CappedRun run_capped_finger(double violation_limit, int steps) {
+  SceneDesc scene =
+      load_scene(std::string(SINEW_SOURCE_DIR) + "/assets/scenes/paper001_finger_flat_anisotropic.json");
+  scene.solver.sleep_steps = 0;
+  scene.solver.budget_violation_limit = violation_limit;
+  World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
+  CappedRun run;
+  for (int step = 0; step < steps; ++step) {
+    world.mutable_state().caps.sqp = 1;
+    world.mutable_state().caps.pgs = 1;
+    REQUIRE(world.step());
+    run.worst = std::max(run.worst, world.state().step_violation);
+    const auto& it = world.profile().iterations;
+    if (it.count("budget_guard_retries")) run.guard_retries += it.at("budget_guard_retries");
+  }
+  return run;
+}
+
+}  // namespace
+
+TEST_CASE("budget guard: a step the caps leave past budget_violation_limit is redone at the scene's caps") {
+  // Without the guard (a limit no step reaches) the capped finger drifts past 10 tolerances.
+  const CappedRun unguarded = run_capped_finger(std::numeric_limits<double>::infinity(), 40);
+  CHECK(unguarded.guard_retries == 0);
+  REQUIRE(unguarded.worst > 10);
+  // With it, no step ends past the limit; the steps that would have are redone.
+  const CappedRun guarded = run_capped_finger(10, 40);
+  CHECK(guarded.worst <= 10);
+  CHECK(guarded.guard_retries > 0);
+  MESSAGE("worst violation over tolerance: " << unguarded.worst << " unguarded, " << guarded.worst << " guarded ("
+                                             << guarded.guard_retries << " steps redone)");
 }
