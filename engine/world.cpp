@@ -83,12 +83,14 @@ bool World::step() {
   s.caps = {};
   if (m_budget_guard_tripped) {
     // Left far outside a tolerance by the budget's caps: the same step at the scene's, from
-    // the warm start and factorisation the capped attempt left (a retry afresh took the
-    // pressed finger ~200 ms a step); the retries below if that fails too.
+    // the multipliers the capped attempt reached (a retry afresh took the pressed finger
+    // ~200 ms a step) but with the factorisation decision, the curvature to settle and the
+    // constraint impulse of before it; the retries below if that fails too.
+    restore_before_capped_attempt();
     const bool ok = attempt_step();
     s.caps = caps;
     if (ok) {
-      s.profile.iterations["budget_guard_retries"] = 1;
+      ++s.profile.iterations["budget_guard_retries"];
       const double own_ms = s.profile.step_ms;
       s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       s.profile.rolled_back_ms = s.profile.step_ms - own_ms;
@@ -136,13 +138,56 @@ bool World::step() {
   }
   s.profile.finite = ok;
   s.profile.iterations["step_retries"] = retries;
+  const double own_ms = s.profile.step_ms;  // the attempt this profile describes
   s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  s.profile.rolled_back_ms = s.profile.step_ms - own_ms;
   return ok;
 }
 
 void World::set_step_size(double h) {
   m_model.h = h;
   if (m_frozen) m_frozen->h = h;
+}
+
+// What a capped attempt changes that its redo at the scene's caps must not start from: the
+// factorisation's age and the rule's yardstick (so that the redo decides as the attempt did),
+// the curvature pending from the last step's rows (the attempt's own are of an iterate more
+// than budget_violation_limit tolerances off) and the constraint impulse (Newton's predictor).
+// Copied into kept storage: no allocation once warm.
+void World::save_before_capped_attempt() {
+  const State& s = m_state;
+  CappedAttemptStart& saved = m_capped_start;
+  saved.factor_age = s.factor_age;
+  saved.factor_sqp = s.factor_sqp;
+  saved.keep_curved_factor = s.keep_curved_factor;
+  saved.curvature_pending = s.curvature_pending;
+  saved.curvature = s.curvature;  // settled: an SQP refactorisation of the attempt would change them
+  saved.curvature_blocks = s.curvature_blocks;
+  if (s.curvature_pending) {
+    saved.curvature_rows = s.curvature_rows;
+    saved.curvature_point = s.curvature_point;
+  }
+  saved.has_constraint_impulse = s.has_constraint_impulse;
+  saved.constraint_impulse_steady = s.constraint_impulse_steady;
+  saved.constraint_impulse = s.constraint_impulse;
+}
+
+void World::restore_before_capped_attempt() {
+  State& s = m_state;
+  const CappedAttemptStart& saved = m_capped_start;
+  s.factor_age = saved.factor_age;
+  s.factor_sqp = saved.factor_sqp;
+  s.keep_curved_factor = saved.keep_curved_factor;
+  s.curvature_pending = saved.curvature_pending;
+  s.curvature = saved.curvature;
+  s.curvature_blocks = saved.curvature_blocks;
+  if (saved.curvature_pending) {
+    s.curvature_rows = saved.curvature_rows;
+    s.curvature_point = saved.curvature_point;
+  }
+  s.has_constraint_impulse = saved.has_constraint_impulse;
+  s.constraint_impulse_steady = saved.constraint_impulse_steady;
+  s.constraint_impulse = saved.constraint_impulse;
 }
 
 void World::forget_previous_step() {
@@ -164,7 +209,17 @@ bool World::attempt_step() {
   const auto start = Clock::now();
   State& s = m_state;
   s.profile.clear();
+  s.step_violation = 0;
   s.impulse_predicted = false;  // solve_newton sets it for this step
+  m_budget_guard_tripped = false;
+  const SolverDesc& cfg = m_model.solver;
+  const auto lowered = [](int cap, int scene_cap) { return cap > 0 && cap < scene_cap; };
+  const bool capped = lowered(s.caps.sqp, cfg.sqp_max_iterations) || lowered(s.caps.pgs, cfg.pgs_max_iterations) ||
+                      lowered(s.caps.newton, cfg.newton_max_iterations) || lowered(s.caps.pcg, cfg.pcg_max_iterations);
+  if (capped) {
+    save_before_capped_attempt();
+    s.profile.iterations["budget_guard_retries"] = 0;  // named on every capped step, not first mid-run
+  }
   const bool sleeping = m_model.solver.sleep_steps > 0;
   if (sleeping) wake_disturbed_bodies(m_model, s);
   if (sleeping && s.sleep.all()) {
@@ -193,11 +248,6 @@ bool World::attempt_step() {
   // Caps below the scene's (the real-time budget) trade accuracy, not stability: a step they
   // left far outside a tolerance fails, and World::step retries it at the scene's caps (a
   // pressed finger under a 4 ms budget otherwise ran away, strain 1e4 and 1.6 m deep).
-  m_budget_guard_tripped = false;
-  const SolverDesc& cfg = m_model.solver;
-  const auto lowered = [](int cap, int scene_cap) { return cap > 0 && cap < scene_cap; };
-  const bool capped = lowered(s.caps.sqp, cfg.sqp_max_iterations) || lowered(s.caps.pgs, cfg.pgs_max_iterations) ||
-                      lowered(s.caps.newton, cfg.newton_max_iterations) || lowered(s.caps.pcg, cfg.pcg_max_iterations);
   if (ok && capped && s.step_violation > cfg.budget_violation_limit) {
     ok = false;
     m_budget_guard_tripped = true;

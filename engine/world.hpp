@@ -45,6 +45,20 @@ class World {
 
   Model m_model;
   bool m_budget_guard_tripped = false;  // the last attempt_step failed the budget's violation limit
+  // State a capped attempt (the real-time budget) may have to be redone from (world.cpp).
+  struct CappedAttemptStart {
+    int factor_age = 0, factor_sqp = -1;
+    bool keep_curved_factor = false, curvature_pending = false;
+    RowTable curvature_rows;
+    VecX curvature_point;
+    std::vector<double> curvature;
+    std::vector<std::pair<int, Eigen::Matrix<double, 12, 12>>> curvature_blocks;
+    bool has_constraint_impulse = false, constraint_impulse_steady = false;
+    VecX constraint_impulse;
+  };
+  CappedAttemptStart m_capped_start;
+  void save_before_capped_attempt();
+  void restore_before_capped_attempt();
   std::unique_ptr<Model> m_frozen;  // sleepers frozen (engine/sleep/sleep.hpp); null when all are awake
   State m_state;
   LinearSolver m_solver;

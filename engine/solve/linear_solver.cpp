@@ -1,5 +1,7 @@
 #include "engine/solve/linear_solver.hpp"
 
+#include <cstdio>
+
 #include <omp.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -34,6 +36,14 @@ LinearSolver::SolveWorkspace::~SolveWorkspace() {
   cholmod_finish(&common);
 }
 
+namespace {
+
+void report_cholmod_error(int status, const char* file, int line, const char* message) {
+  if (status < 0) std::fprintf(stderr, "CHOLMOD error %d: %s (%s:%d)\n", status, message, file, line);
+}
+
+}  // namespace
+
 LinearSolver::LinearSolver(const SolverDesc& desc)
     : m_use_cholmod(desc.linear != "pcg"),
       m_desc(desc),
@@ -61,10 +71,12 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
     // new pattern (a change of the sleeping set): 109 -> 871 ms on a 32k-DOF grid. Set on
     // every analysis: the common outlives patterns of other sizes.
     cholmod_common& common = m_cholmod.cholmod();
-    // Errors only: a matrix that is not positive definite comes back as factorize's false,
-    // which every caller handles and counts (curvature_dropped, a retried step); CHOLMOD's own
-    // warning line per failure filled a budgeted run's terminal (80 in 90 frames).
-    common.print = 1;
+    // Errors only: a matrix that is not positive definite (a warning to CHOLMOD) comes back
+    // as factorize's false, which every caller handles and counts (curvature_dropped, a
+    // retried step); CHOLMOD's own line per failure filled a budgeted run's terminal (80 in
+    // 90 frames). Its print level would print warnings as errors: a handler of our own.
+    common.print = 0;
+    common.error_handler = report_cholmod_error;
     if (A.rows() >= kSupernodalThreshold && A.rows() <= kNestedDissectionLimit) {
       common.nmethods = 2;
       common.method[0].ordering = CHOLMOD_AMD;
