@@ -149,46 +149,37 @@ void World::set_step_size(double h) {
   if (m_frozen) m_frozen->h = h;
 }
 
+namespace {
+
 // What a capped attempt changes that its redo at the scene's caps must not start from: the
 // factorisation's age and the rule's yardstick (so that the redo decides as the attempt did),
-// the curvature pending from the last step's rows (the attempt's own are of an iterate more
-// than budget_violation_limit tolerances off) and the constraint impulse (Newton's predictor).
-// Copied into kept storage: no allocation once warm.
-void World::save_before_capped_attempt() {
-  const State& s = m_state;
-  CappedAttemptStart& saved = m_capped_start;
-  saved.factor_age = s.factor_age;
-  saved.factor_sqp = s.factor_sqp;
-  saved.keep_curved_factor = s.keep_curved_factor;
-  saved.curvature_pending = s.curvature_pending;
-  saved.curvature = s.curvature;  // settled: an SQP refactorisation of the attempt would change them
-  saved.curvature_blocks = s.curvature_blocks;
-  if (s.curvature_pending) {
-    saved.curvature_rows = s.curvature_rows;
-    saved.curvature_point = s.curvature_point;
+// the curvature settled (an SQP refactorisation of the attempt would change it) and pending
+// from the last step's rows (the attempt's own are of an iterate more than
+// budget_violation_limit tolerances off), and the constraint impulse (Newton's predictor).
+// One list for both directions, State -> kept copy and back (the same member names);
+// copied into kept storage, so no allocation once warm.
+template <typename From, typename To>
+void copy_capped_attempt_start(const From& from, To& to) {
+  to.factor_age = from.factor_age;
+  to.factor_sqp = from.factor_sqp;
+  to.keep_curved_factor = from.keep_curved_factor;
+  to.curvature_pending = from.curvature_pending;
+  to.curvature = from.curvature;
+  to.curvature_blocks = from.curvature_blocks;
+  if (from.curvature_pending) {
+    to.curvature_rows = from.curvature_rows;
+    to.curvature_point = from.curvature_point;
   }
-  saved.has_constraint_impulse = s.has_constraint_impulse;
-  saved.constraint_impulse_steady = s.constraint_impulse_steady;
-  saved.constraint_impulse = s.constraint_impulse;
+  to.has_constraint_impulse = from.has_constraint_impulse;
+  to.constraint_impulse_steady = from.constraint_impulse_steady;
+  to.constraint_impulse = from.constraint_impulse;
 }
 
-void World::restore_before_capped_attempt() {
-  State& s = m_state;
-  const CappedAttemptStart& saved = m_capped_start;
-  s.factor_age = saved.factor_age;
-  s.factor_sqp = saved.factor_sqp;
-  s.keep_curved_factor = saved.keep_curved_factor;
-  s.curvature_pending = saved.curvature_pending;
-  s.curvature = saved.curvature;
-  s.curvature_blocks = saved.curvature_blocks;
-  if (saved.curvature_pending) {
-    s.curvature_rows = saved.curvature_rows;
-    s.curvature_point = saved.curvature_point;
-  }
-  s.has_constraint_impulse = saved.has_constraint_impulse;
-  s.constraint_impulse_steady = saved.constraint_impulse_steady;
-  s.constraint_impulse = saved.constraint_impulse;
-}
+}  // namespace
+
+void World::save_before_capped_attempt() { copy_capped_attempt_start(m_state, m_capped_start); }
+
+void World::restore_before_capped_attempt() { copy_capped_attempt_start(m_capped_start, m_state); }
 
 void World::forget_previous_step() {
   State& s = m_state;

@@ -26,6 +26,10 @@ IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const St
                                      const FactorisationForecast& next) const {
   IterationCaps caps;
   if (last.step_ms <= 0 || steps_left <= 0) return caps;  // nothing measured yet: the scene's caps
+  // After a step the budget guard redid at the scene's caps (World::step), this one runs at
+  // them too: cut again from the redo's costs, it would likely be redone as well, paying for
+  // two steps.
+  if (count(last, "budget_guard_retries") > 0) return caps;
   const double per_step = (m_budget_ms - elapsed_ms) / steps_left;
 
   const int sqp = count(last, "sqp"), newton = count(last, "newton");

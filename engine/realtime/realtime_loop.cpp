@@ -29,14 +29,6 @@ FrameStats RealtimeLoop::frame(World& world, int steps) {
     }
     const double elapsed = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
     const StepProfile& last = world.profile();
-    // After a step the budget guard redid at the scene's caps (World::step), this one runs at
-    // them too: cut again from the redo's costs, it would likely be redone as well, paying
-    // for two steps.
-    const auto redone = last.iterations.find("budget_guard_retries");
-    if (redone != last.iterations.end() && redone->second > 0) {
-      world.mutable_state().caps = {};
-      return;
-    }
     const bool linear = !world.model().has_hyperelastic;  // Newton's factorisations are its own
     if (linear && last.step_ms > 0 && last.skipped[static_cast<int>(Stage::Factorize)].empty())
       m_factorize_ms = last.ms[static_cast<int>(Stage::Factorize)];

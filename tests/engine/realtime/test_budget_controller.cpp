@@ -68,6 +68,10 @@ TEST_CASE("budget controller: the next step's factorisation is forecast, not the
   next.factorize_ms = 5.0;
   CHECK(budget.caps(0, 1, reused, next).sqp == 5);
   CHECK(budget.caps(0, 1, reused).sqp == 7);
+  // After a step the guard redid, the scene's caps (0: none lowered).
+  StepProfile redone = reused;
+  redone.iterations["budget_guard_retries"] = 1;
+  CHECK(budget.caps(0, 1, redone, next).sqp == 0);
   // After a step that factorised, the next keeps it: its fixed part is the last one's less
   // the factorisation.
   next.factorises = false;
