@@ -8,6 +8,7 @@
 #include "engine/constraints/attachment_rows.hpp"
 #include "engine/constraints/row_table.hpp"
 #include "engine/constraints/delassus.hpp"
+#include "engine/constraints/lcp_active_set.hpp"
 #include "engine/constraints/row_column_cache.hpp"
 #include "engine/constraints/energy_screen.hpp"
 #include "engine/constraints/touched_inverse.hpp"
@@ -78,6 +79,7 @@ struct State {
   long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset
   int touched_inverse_first_nodes = 0;  // its touched nodes after that first fill
   Delassus delassus;                 // W = J H^-1 J^T of the current SQP iteration (constraints)
+  ActiveSetPgs active_set_pgs;       // PGS's active set and W_AA for a factored W (constraints)
   std::vector<int> touched_scratch, local_node;  // scratch of the constraint solve
   RowColumnCache row_columns;        // H^-1 J_i^T per row, per factorisation, when W is formed
                                      // from one solve per row (constraints)

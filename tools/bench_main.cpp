@@ -140,13 +140,19 @@ uint64_t run_once(const BenchScene& bench, const SceneDesc& scene, int warmup, i
   return world->state_hash();
 }
 
-nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int repeat, const std::string& linear,
-                           int delassus_reuse, int pgs_subspace, const std::string& sqp_acceleration) {
+// Solver settings given on the command line for every scene (empty, 0 or -1: the scene's).
+struct SolverOverrides {
+  std::string linear, sqp_acceleration, pgs_sweeps;
+  int delassus_reuse = 0, pgs_subspace = -1;
+};
+
+nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int repeat, const SolverOverrides& set) {
   SceneDesc scene = bench.make();
-  if (!sqp_acceleration.empty()) scene.solver.sqp_acceleration = sqp_acceleration;
-  if (!linear.empty()) scene.solver.linear = linear;
-  if (delassus_reuse > 0) scene.solver.delassus_reuse = delassus_reuse;
-  if (pgs_subspace >= 0) scene.solver.pgs_subspace_interval = pgs_subspace;
+  if (!set.sqp_acceleration.empty()) scene.solver.sqp_acceleration = set.sqp_acceleration;
+  if (!set.linear.empty()) scene.solver.linear = set.linear;
+  if (!set.pgs_sweeps.empty()) scene.solver.pgs_sweeps = set.pgs_sweeps;
+  if (set.delassus_reuse > 0) scene.solver.delassus_reuse = set.delassus_reuse;
+  if (set.pgs_subspace >= 0) scene.solver.pgs_subspace_interval = set.pgs_subspace;
   if (!bench.sleeping) scene.solver.sleep_steps = 0;
   // Repeats run the same steps again from the start (the simulation is deterministic: their
   // end states must agree), so that their spread shows the machine's timing noise (and the
@@ -203,7 +209,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
   return {{"steps_per_second", steps_per_second}, {"realtime_factor", steps_per_second * scene.h}, {"h", scene.h},
           {"violation_max", worst},
           {"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
-          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
+          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
           {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world->state().x.allFinite()},
           {"repeats", repeat}, {"step_median_per_repeat", repeat_medians},
           {"step_median_of_repeats", quantile(repeat_medians, 0.5)}, {"repeats_identical", identical},
@@ -215,7 +221,8 @@ void print_usage(std::FILE* to) {
   std::fprintf(to,
                "usage: sinew_bench [--scene NAME | --scene-file FILE [--scene-file FILE]... | --paper-scenes]\n"
                "                   [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--delassus-reuse N]\n"
-               "                   [--pgs-subspace N] [--sqp-acceleration conjugate|none] [--repeat N] [--out FILE]\n"
+               "                   [--pgs-subspace N] [--pgs-sweeps active_set|all_rows]\n"
+               "                   [--sqp-acceleration conjugate|none] [--repeat N] [--out FILE]\n"
                "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
                "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP\n"
                "iterations; with more than one scene, a summary table at the end.\n"
@@ -230,6 +237,7 @@ void print_usage(std::FILE* to) {
                "  --linear L            solver.linear for every scene\n"
                "  --delassus-reuse N    solver.delassus_reuse for every scene\n"
                "  --pgs-subspace N      solver.pgs_subspace_interval for every scene (0: plain PGS)\n"
+               "  --pgs-sweeps S        solver.pgs_sweeps for every scene (all_rows: PGS over every row on T)\n"
                "  --sqp-acceleration A  solver.sqp_acceleration for every scene (none: the SQP's plain steps)\n"
                "  --repeat N            run each scene N times from the start (default 1): the stage figures\n"
                "                        pool every run's timed steps, and each run's median step, the median of\n"
@@ -260,10 +268,11 @@ int integer_option(const std::string& option, const std::string& text, int min) 
 }
 
 struct Options {
-  std::string out = "bench_results.json", only, linear, sqp_acceleration;
+  std::string out = "bench_results.json", only;
   std::vector<std::string> files;
   bool paper_scenes = false, help = false;
-  int steps = 100, warmup = 10, threads = 0, delassus_reuse = 0, pgs_subspace = -1, repeat = 1;
+  int steps = 100, warmup = 10, threads = 0, repeat = 1;
+  SolverOverrides set;
 };
 
 Options parse_options(int argc, char** argv) {
@@ -289,10 +298,11 @@ Options parse_options(int argc, char** argv) {
     else if (arg == "--scene") o.only = next();
     else if (arg == "--scene-file") o.files.push_back(next());
     else if (arg == "--paper-scenes") o.paper_scenes = true;
-    else if (arg == "--linear") o.linear = one_of(next(), {"cholmod", "pcg"});
-    else if (arg == "--delassus-reuse") o.delassus_reuse = integer_option(arg, next(), 1);
-    else if (arg == "--pgs-subspace") o.pgs_subspace = integer_option(arg, next(), 0);
-    else if (arg == "--sqp-acceleration") o.sqp_acceleration = one_of(next(), {"conjugate", "none"});
+    else if (arg == "--linear") o.set.linear = one_of(next(), {"cholmod", "pcg"});
+    else if (arg == "--delassus-reuse") o.set.delassus_reuse = integer_option(arg, next(), 1);
+    else if (arg == "--pgs-subspace") o.set.pgs_subspace = integer_option(arg, next(), 0);
+    else if (arg == "--pgs-sweeps") o.set.pgs_sweeps = one_of(next(), {"active_set", "all_rows"});
+    else if (arg == "--sqp-acceleration") o.set.sqp_acceleration = one_of(next(), {"conjugate", "none"});
     else if (arg == "--help" || arg == "-h") o.help = true;
     else throw UsageError("unknown option '" + arg + "' (see --help)");
   }
@@ -361,7 +371,7 @@ int main(int argc, char** argv) {
     if (scenes.size() > 1) std::fprintf(stderr, "[%zu/%zu] %s\n", k + 1, scenes.size(), bench.name.c_str());
     try {
       results["scenes"][bench.name] =
-          bench_scene(bench, o.warmup, o.steps, o.repeat, o.linear, o.delassus_reuse, o.pgs_subspace, o.sqp_acceleration);
+          bench_scene(bench, o.warmup, o.steps, o.repeat, o.set);
     } catch (const std::exception& e) {
       std::printf("%-32s skipped: %s\n", bench.name.c_str(), e.what());
       results["scenes"][bench.name] = {{"skipped", e.what()}};

@@ -157,13 +157,8 @@ long Delassus::zero_entries() const {
 }
 
 void Delassus::form_W_from_T(Eigen::Ref<MatX> W) const {
-  const Eigen::Map<MatX> T = this->T();
-  fill_symmetric(W, [&](int i, int j) {
-    const double* t = T.col(j).data();
-    double s = 0;
-    for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(Eigen::Map<const Vec3>(t + 3 * m_local[e]));
-    return s;
-  });
+  T();  // sized (entry reads T's storage directly)
+  fill_symmetric(W, [&](int i, int j) { return entry(i, j); });
 }
 
 void Delassus::multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const {

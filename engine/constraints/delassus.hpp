@@ -62,6 +62,12 @@ class Delassus {
   void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c);
   double w(int i) const;
   void changed(int i, double delta);
+  // Factored form (lcp_active_set.hpp): builds column i of T unless built (one task per
+  // column at a time), and W_ij = J_i T_j over row i's stencil, column j built.
+  void ensure_column(int i) const {
+    if (!m_dense && !m_column_built[i]) build_column(i);
+  }
+  double entry(int i, int j) const;
   // out = W lambda (the stored or factored W; no m x m matrix is formed).
   void multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const;
   // The same on a subset of rows (solve_pgs's subspace steps): out_a = sum_b W(rows_a,
@@ -113,6 +119,13 @@ inline double Delassus::w(int i) const {
   double s = m_c_data[i];
   for (int e = m_begin[i]; e < m_begin[i + 1]; ++e)
     s += m_jac[e].dot(Eigen::Map<const Vec3>(m_state_data + 3 * m_local[e]));
+  return s;
+}
+
+inline double Delassus::entry(int i, int j) const {
+  const double* t = m_T_storage.data() + static_cast<std::size_t>(j) * m_k3;
+  double s = 0;
+  for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(Eigen::Map<const Vec3>(t + 3 * m_local[e]));
   return s;
 }
 

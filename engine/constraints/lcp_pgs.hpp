@@ -19,8 +19,9 @@ struct PgsResult {
 };
 
 // Row i's multiplier bounds at the current lambda (friction rows follow their normal row).
-template <typename Lambda>
-inline void pgs_bounds(const RowTable& rows, const Lambda& lambda, int i, double& lo, double& hi) {
+// Rows: a RowTable, or any table with its lo, hi, normal_row and mu (lcp_active_set.hpp).
+template <typename Rows, typename Lambda>
+inline void pgs_bounds(const Rows& rows, const Lambda& lambda, int i, double& lo, double& hi) {
   const int n = rows.normal_row[i];
   if (n < 0) {
     lo = rows.lo[i], hi = rows.hi[i];
@@ -47,9 +48,9 @@ inline void pgs_bounds(const RowTable& rows, const Lambda& lambda, int i, double
 // With subspace_interval > 0, every that many sweeps that leave the tolerance unmet are
 // followed by a subspace step (lcp_subspace.hpp; W must then provide multiply_rows) of at most
 // kSubspaceCg conjugate-gradient iterations.
-template <typename Operator>
+template <typename Operator, typename Rows>
 PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::Ref<const VecX>& weight,
-                    RowTable& rows, int max_iterations, double tolerance, int subspace_interval = 0) {
+                    Rows& rows, int max_iterations, double tolerance, int subspace_interval = 0) {
   // Subspace steps of 10 CG iterations: on paper 001's pressed finger, 20 cost more
   // products than the sweeps they save, 5 save too few.
   constexpr int kRefresh = 16, kSubspaceCg = 10;

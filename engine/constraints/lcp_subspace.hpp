@@ -56,8 +56,8 @@ inline void principal_block_product(const Eigen::Ref<const MatX>& W, const std::
 // One subspace step on lambda (rows.lambda) for the operator W of solve_pgs, right after a
 // sweep (W.w(i) current). W must also provide multiply_rows(F, x, out): out_a =
 // sum_b W(F_a, F_b) x_b, at a cost of |F| columns, not m. Returns the products it took.
-template <typename Operator>
-int subspace_step(Operator& W, RowTable& rows, Eigen::Map<VecX> lambda, int max_cg_iterations, SubspaceScratch& s) {
+template <typename Operator, typename Rows>
+int subspace_step(Operator& W, Rows& rows, Eigen::Map<VecX> lambda, int max_cg_iterations, SubspaceScratch& s) {
   const int m = rows.size();
   s.reserve(m);
   s.free.clear();

@@ -123,37 +123,38 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
 
 void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& rows) {
   // Per tet, the rows to do as a StrainLimitRows holding only their indices (all that
-  // compute_strain_limit_curvatures reads), and where each goes in the table.
+  // compute_strain_limit_curvatures reads) and the first of its blocks in
+  // rows.curvature_blocks (each row's index set here).
   struct Tet {
     int element;
+    int first_block;
     StrainLimitRows wanted;
-    std::array<int, kStrainLimitCount> table_row;
   };
-  thread_local std::vector<Tet> tets_storage;  // kept storage, as blocks
-  thread_local std::vector<std::array<Mat12, kStrainLimitCount>> blocks_storage;
+  thread_local std::vector<Tet> tets_storage;  // kept storage
   std::vector<Tet>& tets = tets_storage;
-  std::vector<std::array<Mat12, kStrainLimitCount>>& blocks = blocks_storage;
+  // Sized by the table (at most a tet and a block per row), as the solver's other buffers:
+  // they grow only with it, not at every new count of rows with force.
+  tets.reserve(rows.size());
+  rows.curvature_blocks.reserve(rows.size());
   tets.clear();
+  int blocks = static_cast<int>(rows.curvature_blocks.size());
   for (int i = 0; i < rows.size(); ++i) {
     if (rows.kind[i] != RowKind::Strain || rows.lambda[i] <= 0 || rows.curvature_block[i] >= 0) continue;
     const int e = rows.element[i];
-    if (tets.empty() || tets.back().element != e) tets.push_back({e, {}, {}});
+    if (tets.empty() || tets.back().element != e) tets.push_back({e, blocks, {}});
     Tet& tet = tets.back();
-    tet.table_row[tet.wanted.count] = i;
+    rows.curvature_block[i] = blocks++;
     tet.wanted.row[tet.wanted.count++].index = static_cast<int>(rows.key[i] & 0xFFFFFF);
   }
-  blocks.resize(tets.size());
+  rows.curvature_blocks.resize(blocks);
   tbb::parallel_for(size_t(0), tets.size(), [&](size_t t) {
     const int e = tets[t].element;
     const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    compute_strain_limit_curvatures(spec, tet_deformation_gradient(model, x, e), dN_dX, tets[t].wanted, blocks[t]);
+    std::array<Mat12, kStrainLimitCount> out;  // 20 KB on the task's stack
+    compute_strain_limit_curvatures(spec, tet_deformation_gradient(model, x, e), dN_dX, tets[t].wanted, out);
+    for (int r = 0; r < tets[t].wanted.count; ++r) rows.curvature_blocks[tets[t].first_block + r] = out[r];
   });
-  for (size_t t = 0; t < tets.size(); ++t)
-    for (int r = 0; r < tets[t].wanted.count; ++r) {
-      rows.curvature_block[tets[t].table_row[r]] = static_cast<int>(rows.curvature_blocks.size());
-      rows.curvature_blocks.push_back(blocks[t][r]);
-    }
 }
 
 double worst_strain_limit_violation(const Model& model, const VecX& x) {

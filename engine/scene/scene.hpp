@@ -160,6 +160,9 @@ struct SolverDesc {
   // Every this many PGS sweeps that leave pgs_tolerance unmet, a subspace step: conjugate
   // gradients on the rows strictly inside their bounds (lcp_subspace.hpp). 0: plain PGS.
   int pgs_subspace_interval = 8;
+  // "active_set": with a factored W (more rows than touched DOFs), PGS sweeps the rows with
+  // force with their block of W formed (lcp_active_set.hpp); "all_rows": every row, on T.
+  std::string pgs_sweeps = "active_set";
   int sqp_max_iterations = 10;
   double sqp_tolerance = 1e-3;     // worst Ue/Umax - 1 accepted
   double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further

@@ -650,6 +650,7 @@ SolverDesc parse_solver(const Object& o) {
   o.integer("pgs_max_iterations", s.pgs_max_iterations, kPositive);
   o.number("pgs_tolerance", s.pgs_tolerance, kPositive);
   o.integer("pgs_subspace_interval", s.pgs_subspace_interval, kNonNegative);
+  o.choice("pgs_sweeps", s.pgs_sweeps, {"active_set", "all_rows"});
   o.integer("sqp_max_iterations", s.sqp_max_iterations, kPositive);
   o.number("sqp_tolerance", s.sqp_tolerance, kPositive);
   o.number("sqp_position_tolerance", s.sqp_position_tolerance, kPositive);
@@ -677,7 +678,7 @@ SolverDesc parse_solver(const Object& o) {
 }
 
 const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_iterations",
-                             "pgs_max_iterations", "pgs_tolerance", "pgs_subspace_interval", "sqp_max_iterations",
+                             "pgs_max_iterations", "pgs_tolerance", "pgs_subspace_interval", "pgs_sweeps", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
                              "contact_margin", "body_friction", "sqp_position_tolerance", "sqp_stall_tolerance", "sqp_acceleration", "sqp_solves", "newton_predictor",
                              "refactor_interval", "curved_refactor_interval", "delassus_reuse", "max_speed", "budget_violation_limit", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",

@@ -538,9 +538,12 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         c = Eigen::Map<const VecX>(s.rows.value.data(), m) / h + jdv;
         if (correct) c += exact_w - approximate_w;
         residual_weights(cfg, h, s.rows, weights);
-        const PgsResult result = solve_pgs(s.delassus, c, weights, s.rows,
-                                           IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs),
-                                           cfg.pgs_tolerance, cfg.pgs_subspace_interval);
+        const int pgs_cap = IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs);
+        const PgsResult result =
+            !s.delassus.dense() && cfg.pgs_sweeps == "active_set"
+                ? s.active_set_pgs.solve(s.delassus, c, weights, s.rows, pgs_cap, cfg.pgs_tolerance,
+                                         cfg.pgs_subspace_interval)
+                : solve_pgs(s.delassus, c, weights, s.rows, pgs_cap, cfg.pgs_tolerance, cfg.pgs_subspace_interval);
         pgs += result.iterations;
         subspace_products += result.subspace_products;
       }

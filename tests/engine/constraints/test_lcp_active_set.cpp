@@ -1,0 +1,168 @@
+// PGS on the active set with W_AA formed (lcp_active_set.hpp) against PGS over every row on
+// the factored W: the same LCP, the same stopping test over every row.
+#include <doctest/doctest.h>
+
+#include <random>
+
+#include "engine/constraints/delassus.hpp"
+#include "engine/constraints/lcp_active_set.hpp"
+#include "engine/constraints/lcp_pgs.hpp"
+#include "tests/engine/constraints/delassus_problem.hpp"
+
+using namespace sinew;
+using namespace sinew::test;
+
+namespace {
+
+// Every row's natural residual times its weight, from W formed whole: the test both
+// solvers stop on, computed independently of either.
+double weighted_residual(const MatX& W, const VecX& c, const VecX& weight, const RowTable& rows) {
+  const Eigen::Map<const VecX> lambda(rows.lambda.data(), rows.size());
+  const VecX w = W * lambda + c;
+  double worst = 0;
+  for (int i = 0; i < rows.size(); ++i) {
+    double lo, hi;
+    pgs_bounds(rows, lambda, i, lo, hi);
+    worst = std::max(worst, std::abs(std::clamp(lambda[i] - w[i] / W(i, i), lo, hi) - lambda[i]) * W(i, i) * weight[i]);
+  }
+  return worst;
+}
+
+struct Lcp {
+  Problem problem;
+  std::vector<int> local_node;
+  TouchedInverse inverse;
+  VecX c, weight;
+};
+
+// A factored LCP: `rows` rows on `nodes` nodes (node 0 fixed), with a solution by
+// construction (W singular: a random c may have none): c = w* - W lambda*, lambda* > 0 on
+// about half the rows, w* > 0 on the others; weights of either kind's scale.
+Lcp random_lcp(int nodes, int rows, std::mt19937& rng) {
+  Lcp lcp;
+  lcp.problem = random_problem(nodes, rows, rng);
+  const Eigen::LLT<MatX> llt(lcp.problem.H);
+  lcp.inverse = touched_inverse(lcp.problem, llt, lcp.local_node);
+  const MatX J = jacobian(lcp.problem);
+  const MatX W = J * llt.solve(J.transpose());
+  std::uniform_real_distribution<double> unit(0.0, 1.0), scale(0.5, 2.0);
+  VecX lambda_star = VecX::Zero(rows), w_star = VecX::Zero(rows);
+  for (int i = 0; i < rows; ++i) (unit(rng) < 0.5 ? lambda_star[i] : w_star[i]) = scale(rng);
+  lcp.c = w_star - W * lambda_star;
+  lcp.weight.resize(rows);
+  for (int i = 0; i < rows; ++i) lcp.weight[i] = scale(rng);
+  return lcp;
+}
+
+}  // namespace
+
+TEST_CASE("active-set PGS: the factored LCP's solution, every row within the tolerance") {
+  std::mt19937 rng(21);
+  for (const bool warm : {false, true}) {
+    CAPTURE(warm);
+    Lcp lcp = random_lcp(8, 80, rng);  // 80 rows on 21 DOFs: redundant, W singular
+    RowTable& rows = lcp.problem.rows;
+    if (warm)  // a warm start on every third row, some of which will have to let go
+      for (int i = 0; i < rows.size(); i += 3) rows.lambda[i] = 0.1;
+    RowTable all_rows = rows;
+    Delassus W, W_all;
+    W.build(rows, lcp.local_node, lcp.inverse);
+    W_all.build(all_rows, lcp.local_node, lcp.inverse);
+    REQUIRE_FALSE(W.dense());
+    const double tolerance = 1e-10;
+    ActiveSetPgs active;
+    const PgsResult a = active.solve(W, lcp.c, lcp.weight, rows, 200000, tolerance, 8);
+    const PgsResult b = solve_pgs(W_all, lcp.c, lcp.weight, all_rows, 200000, tolerance, 8);
+    MESSAGE("active set: " << a.iterations << " sweeps over " << active.active_rows() << " of " << rows.size()
+                           << " rows in " << active.rounds() << " rounds; every row: " << b.iterations << " sweeps");
+    CHECK(a.residual <= tolerance);
+    CHECK(b.residual <= tolerance);
+    const MatX Wm = W.matrix();
+    CHECK(weighted_residual(Wm, lcp.c, lcp.weight, rows) <= 1.01 * tolerance);  // round-off of w only
+    CHECK(active.active_rows() < rows.size());  // the point: some rows are never swept
+    int carrying = 0;
+    for (int i = 0; i < rows.size(); ++i) carrying += rows.lambda[i] != 0;
+    CHECK(carrying <= active.active_rows());  // no row outside A carries force
+    CHECK(carrying > 0);
+    // W lambda is the same at every solution of a PSD LCP (lambda need not be, W singular);
+    // at residuals of 1e-10 the two agree to about its square root.
+    const Eigen::Map<const VecX> la(rows.lambda.data(), rows.size()), lb(all_rows.lambda.data(), rows.size());
+    CHECK((Wm * (la - lb)).norm() <= 1e-4 * lcp.c.norm());
+  }
+}
+
+TEST_CASE("active-set PGS: a contact's friction rows join with their normal row and keep its box") {
+  std::mt19937 rng(22);
+  std::normal_distribution<double> normal;
+  Lcp lcp = random_lcp(8, 40, rng);
+  RowTable& rows = lcp.problem.rows;
+  // Six contacts on free nodes: a normal row pushed hard, two friction rows with mu 0.5.
+  const int strain_rows = rows.size();
+  for (int k = 0; k < 6; ++k) {
+    const int node = 1 + k;
+    const Vec3 n = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
+    const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+    const int normal_row = rows.add_row(RowKind::Contact, 0, 0, 1e300, 1000 + k);
+    rows.add_entry(node, n);
+    for (const Vec3& t : {t1, t2}) {
+      const int f = rows.add_row(RowKind::Friction, 0, -1e300, 1e300, 2000 + 2 * k);
+      rows.normal_row[f] = normal_row;
+      rows.mu[f] = 0.5;
+      rows.add_entry(node, t);
+    }
+  }
+  const int m = rows.size();
+  const Eigen::LLT<MatX> llt(lcp.problem.H);
+  lcp.inverse = touched_inverse(lcp.problem, llt, lcp.local_node);
+  // A solution by construction: the strain rows free (lambda* 0, w* > 0), every contact
+  // pressed (lambda_n* 1) with friction inside its box (w* 0) or on it (w* pushing outwards).
+  const MatX J = jacobian(lcp.problem);
+  const MatX Wm = J * llt.solve(J.transpose());
+  VecX lambda_star = VecX::Zero(m), w_star = VecX::Zero(m);
+  for (int i = 0; i < strain_rows; ++i) w_star[i] = 1.0;
+  for (int i = strain_rows; i < m; ++i) {
+    if (rows.normal_row[i] < 0) lambda_star[i] = 1.0;
+    else if (i % 3 == 0) lambda_star[i] = 0.5, w_star[i] = -0.2;  // sliding: on its box, w pushing out
+    else lambda_star[i] = 0.2 * normal(rng) * 0.5;  // sticking: inside the box, w 0
+  }
+  lcp.c = w_star - Wm * lambda_star;
+  lcp.weight = VecX::Ones(m);
+  // A warm start on one friction row only: its normal and its sibling must join with it.
+  rows.lambda[strain_rows + 1] = 0.01;
+  Delassus W;
+  W.build(rows, lcp.local_node, lcp.inverse);
+  REQUIRE_FALSE(W.dense());
+  const double tolerance = 1e-10;
+  ActiveSetPgs active;
+  const PgsResult result = active.solve(W, lcp.c, lcp.weight, rows, 200000, tolerance, 8);
+  CHECK(result.residual <= tolerance);
+  CHECK(weighted_residual(W.matrix(), lcp.c, lcp.weight, rows) <= 1.01 * tolerance);
+  int sliding = 0;
+  for (int i = strain_rows; i < m; ++i) {
+    if (rows.normal_row[i] < 0) {
+      CHECK(rows.lambda[i] > 0);  // every contact carries force
+      continue;
+    }
+    const double box = 0.5 * rows.lambda[rows.normal_row[i]];
+    CHECK(std::abs(rows.lambda[i]) <= box * (1 + 1e-12));
+    sliding += std::abs(rows.lambda[i]) >= box * (1 - 1e-9);
+  }
+  MESSAGE(sliding << " of 12 friction rows on their box");
+  CHECK(sliding >= 1);
+}
+
+TEST_CASE("active-set PGS: its sweeps stay within the cap and it reports the residual of every row") {
+  std::mt19937 rng(23);
+  for (const int cap : {1, 3, 10}) {
+    CAPTURE(cap);
+    Lcp lcp = random_lcp(8, 80, rng);
+    RowTable& rows = lcp.problem.rows;
+    Delassus W;
+    W.build(rows, lcp.local_node, lcp.inverse);
+    ActiveSetPgs active;
+    const PgsResult result = active.solve(W, lcp.c, lcp.weight, rows, cap, 1e-12, 8);
+    CHECK(result.iterations <= cap);
+    CHECK(result.residual > 1e-12);  // not converged in so few sweeps
+    CHECK(result.residual == doctest::Approx(weighted_residual(W.matrix(), lcp.c, lcp.weight, rows)).epsilon(1e-9));
+  }
+}
