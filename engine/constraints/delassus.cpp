@@ -94,11 +94,13 @@ void Delassus::build_column(int i) const {
   assert(m_G_data && !m_direct);  // G of the last build(), which must still be alive
   const Eigen::Map<const MatX, 0, Eigen::OuterStride<>> G(m_G_data, m_k3, m_k3, Eigen::OuterStride<>(m_G_stride));
   auto column = T().col(i);
-  column.setZero();
+  if (m_begin[i] == m_begin[i + 1]) column.setZero();  // no free node: T_i = 0
+  // The first node's three columns set T_i, the others add to it (no zeroing pass).
   for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) {
     const int a = 3 * m_local[e];
     const Vec3& j = m_jac[e];
-    add_scaled3(column.data(), G.col(a).data(), G.col(a + 1).data(), G.col(a + 2).data(), j[0], j[1], j[2], m_k3);
+    (e == m_begin[i] ? set_scaled3 : add_scaled3)(column.data(), G.col(a).data(), G.col(a + 1).data(),
+                                                  G.col(a + 2).data(), j[0], j[1], j[2], m_k3);
   }
   m_column_built[i] = 1;
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 #include "engine/math/svd_derivative.hpp"
 
@@ -31,21 +33,32 @@ struct Terms {
   // false: values and slopes only (C, p), for screening and values; P and Q are left unset.
   // Either way C comes from the same operations, so both agree bit for bit.
   bool derivatives = true;
+  // With derivatives, P and Q only for the terms that become rows (C below `margin`, or
+  // index k in `keep`); the others' are left unset (the flat finger's candidate tets: ~450
+  // rows of ~3,600 terms).
+  double margin = std::numeric_limits<double>::infinity();
+  uint32_t keep = ~0u;
   int count = 0;
   std::array<Term, kStrainLimitCount> term;
+  bool wanted(int k, double C) const { return derivatives && (C < margin || (keep >> k & 1u)); }
   // A constraint of s_i and row i of c only: P = p e_i, Q row i = q.
   void add(int k, int i, double C, double p, const Vec3& q) {
     Term& t = term[count++];
     t.k = k, t.i = i, t.C = C, t.p = p;
-    if (!derivatives) return;
+    if (!wanted(k, C)) return;
     t.P = p * Vec3::Unit(i);
     t.Q.setZero();
     t.Q.row(i) = q.transpose();
   }
+  // Value and slope only (P and Q not wanted).
+  void add(int k, int i, double C, double p) {
+    Term& t = term[count++];
+    t.k = k, t.i = i, t.C = C, t.p = p;
+  }
   void add(int k, int i, double C, double p, const Vec3& P, const Mat3& Q) {
     Term& t = term[count++];
     t.k = k, t.i = i, t.C = C, t.p = p;
-    if (derivatives) t.P = P, t.Q = Q;
+    if (wanted(k, C)) t.P = P, t.Q = Q;
   }
 };
 
@@ -63,30 +76,36 @@ void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd&
       if (l == i) continue;
       const double t = std::abs(s(i) - s(l)) / kStrainLimitBlendGap;
       w(l) = blend_weight(t);
-      dw_ds(l) = blend_weight_slope(t) * sign_of(s(i) - s(l)) / kStrainLimitBlendGap;
+      if (out.derivatives) dw_ds(l) = blend_weight_slope(t) * sign_of(s(i) - s(l)) / kStrainLimitBlendGap;
     }
     for (int j = 0; j < 3; ++j) {
       double a2 = c(i, j) * c(i, j);
       for (int l = 0; l < 3; ++l) a2 += w(l) * c(l, j) * c(l, j);
       const double a = std::sqrt(a2);
       if (a <= kTiny) continue;
+      const int k_min = strain_limit_index(i, j, 0), k_max = strain_limit_index(i, j, 1);
+      const bool min = has_min(spec.smin(j)), max = has_max(spec.smax(j));
+      const double C_min = a * (s(i) - 1) - (spec.smin(j) - 1), C_max = (spec.smax(j) - 1) - a * (s(i) - 1);
+      if (!(min && out.wanted(k_min, C_min)) && !(max && out.wanted(k_max, C_max))) {
+        if (min) out.add(k_min, i, C_min, a);
+        if (max) out.add(k_max, i, C_max, -a);
+        continue;
+      }
       // dC_min = a ds_i + (s_i - 1) da, da = (c_ij dc_ij + sum_l (w_il c_lj dc_lj
       //          + c_lj^2 / 2 dw_il)) / a;  C_max = const - (the same): every term negated.
       Vec3 P = a * Vec3::Unit(i);
       Mat3 Q = Mat3::Zero();
-      if (out.derivatives) {
-        const double g = (s(i) - 1) / a;
-        Q(i, j) = g * c(i, j);
-        for (int l = 0; l < 3; ++l) {
-          if (l == i) continue;
-          Q(l, j) = g * w(l) * c(l, j);
-          const double dP = 0.5 * g * c(l, j) * c(l, j) * dw_ds(l);
-          P(i) += dP;
-          P(l) -= dP;
-        }
+      const double g = (s(i) - 1) / a;
+      Q(i, j) = g * c(i, j);
+      for (int l = 0; l < 3; ++l) {
+        if (l == i) continue;
+        Q(l, j) = g * w(l) * c(l, j);
+        const double dP = 0.5 * g * c(l, j) * c(l, j) * dw_ds(l);
+        P(i) += dP;
+        P(l) -= dP;
       }
-      if (has_min(spec.smin(j))) out.add(strain_limit_index(i, j, 0), i, a * (s(i) - 1) - (spec.smin(j) - 1), a, P, Q);
-      if (has_max(spec.smax(j))) out.add(strain_limit_index(i, j, 1), i, (spec.smax(j) - 1) - a * (s(i) - 1), -a, -P, -Q);
+      if (min) out.add(k_min, i, C_min, a, P, Q);
+      if (max) out.add(k_max, i, C_max, -a, -P, -Q);
     }
   }
 }
@@ -227,6 +246,8 @@ void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVaria
   out.count = 0;
   Terms terms;
   terms.derivatives = true;
+  terms.margin = margin;
+  terms.keep = keep;
   collect_terms(spec, svd, terms);
 
   // dc_ij/dF(r, c) = (dV/dF(r, c) e_i) . m_j, so sum_j q_j dc_ij/dF(r, c) = dV e_i . (M q).

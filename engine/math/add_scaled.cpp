@@ -17,29 +17,47 @@ __attribute__((target("avx2"))) void add_scaled_avx2(double* y, const double* x,
   for (; i < n; ++i) y[i] += x[i] * a;
 }
 
-__attribute__((target("avx2"))) void add_scaled3_avx2(double* y, const double* x0, const double* x1,
-                                                      const double* x2, double a0, double a1, double a2, int n) {
+// Accumulate: y += the sum; else y = the sum (no read of y: a column built from nothing).
+template <bool Accumulate>
+__attribute__((target("avx2"))) void scaled3_avx2(double* y, const double* x0, const double* x1, const double* x2,
+                                                  double a0, double a1, double a2, int n) {
   const __m256d s0 = _mm256_set1_pd(a0), s1 = _mm256_set1_pd(a1), s2 = _mm256_set1_pd(a2);
   int i = 0;
   for (; i + 4 <= n; i += 4) {
     const __m256d sum = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(x0 + i), s0),
                                                     _mm256_mul_pd(_mm256_loadu_pd(x1 + i), s1)),
                                       _mm256_mul_pd(_mm256_loadu_pd(x2 + i), s2));
-    _mm256_storeu_pd(y + i, _mm256_add_pd(_mm256_loadu_pd(y + i), sum));
+    _mm256_storeu_pd(y + i, Accumulate ? _mm256_add_pd(_mm256_loadu_pd(y + i), sum) : sum);
   }
-  for (; i < n; ++i) y[i] += (x0[i] * a0 + x1[i] * a1) + x2[i] * a2;
+  for (; i < n; ++i) {
+    const double sum = (x0[i] * a0 + x1[i] * a1) + x2[i] * a2;
+    y[i] = Accumulate ? y[i] + sum : sum;
+  }
+}
+
+template <bool Accumulate>
+void scaled3(double* y, const double* x0, const double* x1, const double* x2, double a0, double a1, double a2, int n) {
+  if (use_avx2()) {
+    scaled3_avx2<Accumulate>(y, x0, x1, x2, a0, a1, a2, n);
+  } else {
+    using Column = Eigen::Map<const VecX>;
+    if (Accumulate)
+      Eigen::Map<VecX>(y, n).noalias() += Column(x0, n) * a0 + Column(x1, n) * a1 + Column(x2, n) * a2;
+    else
+      Eigen::Map<VecX>(y, n).noalias() = Column(x0, n) * a0 + Column(x1, n) * a1 + Column(x2, n) * a2;
+  }
 }
 
 }  // namespace
 
 void add_scaled3(double* y, const double* x0, const double* x1, const double* x2, double a0, double a1, double a2,
                  int n) {
-  if (use_avx2()) {
-    add_scaled3_avx2(y, x0, x1, x2, a0, a1, a2, n);
-  } else {
-    using Column = Eigen::Map<const VecX>;
-    Eigen::Map<VecX>(y, n).noalias() += Column(x0, n) * a0 + Column(x1, n) * a1 + Column(x2, n) * a2;
-  }
+  scaled3<true>(y, x0, x1, x2, a0, a1, a2, n);
+}
+
+void set_scaled3(double* y, const double* x0, const double* x1, const double* x2, double a0, double a1, double a2,
+                 int n) {
+  scaled3<false>(y, x0, x1, x2, a0, a1, a2, n);
 }
 
 void add_scaled(double* y, const double* x, double a, int n) {

@@ -12,5 +12,9 @@ void add_scaled(double* y, const double* x, double a, int n);
 // Delassus columns (T = G J^T, one node's three columns of G per stencil entry).
 void add_scaled3(double* y, const double* x0, const double* x1, const double* x2, double a0, double a1, double a2,
                  int n);
+// y = (x0 a0 + x1 a1) + x2 a2: the bits of add_scaled3 on y = 0, but for the sign of a zero
+// sum (-0 here), and without reading or zeroing y first.
+void set_scaled3(double* y, const double* x0, const double* x1, const double* x2, double a0, double a1, double a2,
+                 int n);
 
 }  // namespace sinew

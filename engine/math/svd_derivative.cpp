@@ -70,13 +70,22 @@ SvdRotationDerivative compute_svd_rotation_derivative(const RotationVariantSvd& 
   SvdRotationDerivative d;
   const double eps = clamp_epsilon(svd, gap_tolerance);
   constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  // Each pair's clamped denominators once, not per entry; only b = Omega_V(k, l) is wanted,
+  // by solve_pair's own operations (the same bits, half its divisions).
+  double diff[3], sum[3];
+  for (int p = 0; p < 3; ++p) {
+    const int k = kPairs[p][0], l = kPairs[p][1];
+    diff[p] = std::min(svd.S(l) - svd.S(k), -eps);
+    sum[p] = std::max(svd.S(l) + svd.S(k), eps);
+  }
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
       for (int p = 0; p < 3; ++p) {
         // The pair's b, with A = (row r of U)^T (row c of V).
         const int k = kPairs[p][0], l = kPairs[p][1];
-        double a;
-        solve_pair(svd.S, k, l, svd.U(r, k) * svd.V(c, l), svd.U(r, l) * svd.V(c, k), eps, a, d.omega_V[r][c](p));
+        const double A_kl = svd.U(r, k) * svd.V(c, l), A_lk = svd.U(r, l) * svd.V(c, k);
+        const double sym = 0.5 * (A_kl + A_lk), skew = 0.5 * (A_kl - A_lk);
+        d.omega_V[r][c](p) = sym / diff[p] - skew / sum[p];
       }
   return d;
 }

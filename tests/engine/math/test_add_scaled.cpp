@@ -49,7 +49,7 @@ TEST_CASE("add_scaled: the same bits as y[i] + x[i] * a, for every length and al
   CHECK(fused_would_differ > 200);
 }
 
-TEST_CASE("add_scaled3: the same bits as y[i] + ((x0[i] a0 + x1[i] a1) + x2[i] a2), on both paths") {
+TEST_CASE("add_scaled3 and set_scaled3: the bits of y[i] + ((x0[i] a0 + x1[i] a1) + x2[i] a2) and of the sum alone, on both paths") {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> value(-1.0, 1.0);
   int fused_would_differ = 0;
@@ -67,8 +67,15 @@ TEST_CASE("add_scaled3: the same bits as y[i] + ((x0[i] a0 + x1[i] a1) + x2[i] a
           expected[i] = y[i] + (sum + p2);
           fused_would_differ += std::fma(x2[i], a2, std::fma(x1[i], a1, x0[i] * a0)) + y[i] != expected[i];
         }
+        std::vector<double> set = y, set_expected = y;  // set_scaled3: the sum alone, y unread
+        for (int i = offset; i < n + offset; ++i) {
+          volatile double p0 = x0[i] * a0, p1 = x1[i] * a1, p2 = x2[i] * a2;
+          volatile double sum = p0 + p1;
+          set_expected[i] = sum + p2;
+        }
         const auto run = [&] {
           add_scaled3(y.data() + offset, x0.data() + offset, x1.data() + offset, x2.data() + offset, a0, a1, a2, n);
+          set_scaled3(set.data() + offset, x0.data() + offset, x1.data() + offset, x2.data() + offset, a0, a1, a2, n);
         };
         if (avx2) {
           run();
@@ -81,6 +88,7 @@ TEST_CASE("add_scaled3: the same bits as y[i] + ((x0[i] a0 + x1[i] a1) + x2[i] a
         CAPTURE(n);
         CAPTURE(offset);
         CHECK((y.empty() || std::memcmp(y.data(), expected.data(), sizeof(double) * y.size()) == 0));
+        CHECK((set.empty() || std::memcmp(set.data(), set_expected.data(), sizeof(double) * set.size()) == 0));
       }
   }
   // The check above could tell a contracted path from this one: of the 2 x 38 x 4 x ~20
