@@ -51,6 +51,8 @@ class Delassus {
   bool built_direct(int m) const { return m_direct && size() == m; }
 
   int size() const { return static_cast<int>(m_diagonal.size()); }
+  // T's height, 3 x the touched nodes (factored form; 0 after build_direct).
+  int touched_dofs() const { return m_k3; }
   // Columns of T built so far (factored form: those of rows with a multiplier at build(),
   // then each row's at its first change; tests).
   int built_columns() const { return static_cast<int>(std::count(m_column_built.begin(), m_column_built.end(), 1)); }

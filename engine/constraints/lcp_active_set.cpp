@@ -1,6 +1,7 @@
 #include "engine/constraints/lcp_active_set.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 
 #include <tbb/blocked_range.h>
@@ -15,6 +16,8 @@ namespace {
 // every row on T).
 constexpr int kRoundSweeps = 32;
 constexpr int kPlainSweeps = 4;
+// The fewest sweeps left for which W_AA is formed (below, the plain sweeps go on).
+constexpr int kMinActiveSweeps = 4;
 }  // namespace
 
 void ActiveSetPgs::Block::start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c) {
@@ -51,13 +54,13 @@ void ActiveSetPgs::add(const RowTable& rows, int i) {
   for (int k = m_friction_begin[normal]; k < m_friction_begin[normal + 1]; ++k) add_one(m_friction_rows[k]);
 }
 
-void ActiveSetPgs::extend_block(const Delassus& W) {
+void ActiveSetPgs::extend_block(const Delassus& W, int rows) {
   const int n = static_cast<int>(m_active.size());
   if (n == m_formed) return;
   if (n > m_stride) {
     // A larger leading dimension: the formed columns move up, the last first, so that no
     // column is overwritten before it moved (each lands at or above where it was).
-    const int stride = std::max(n, 2 * m_stride);
+    const int stride = std::min(std::max(n, 2 * m_stride), rows);  // n <= rows
     double* data = m_block.view(stride, stride).data();
     for (int b = m_formed - 1; b >= 0; --b)
       std::memmove(data + static_cast<std::size_t>(b) * stride, data + static_cast<std::size_t>(b) * m_stride,
@@ -85,6 +88,7 @@ void ActiveSetPgs::extend_block(const Delassus& W) {
 
 PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, const Eigen::Ref<const VecX>& weight,
                               RowTable& rows, int max_iterations, double tolerance, int subspace_interval) {
+  assert(!W.dense());  // entry() reads T and the stencils of the factored form
   const int m = rows.size();
   PgsResult result;
   m_rounds = 0;
@@ -141,11 +145,23 @@ PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, cons
       if (result.residual <= tolerance || result.iterations >= max_iterations) break;
     }
     for (const int i : m_outside_violated) add(rows, i);
-    ++m_rounds;
-    extend_block(W);
     const int n = static_cast<int>(m_active.size());
-    inner_residual = 0;
-    if (n == 0) continue;  // nothing outside was violated either: done at the next check
+    if (n == 0) {  // no row has force or violates its condition: solved
+      result.residual = outside;
+      break;
+    }
+    // On T for the rest where A does not pay: A past T's height (an update on W_AA would cost
+    // more than one on T, and W_AA outgrow T), or too few sweeps left to repay forming W_AA.
+    if (n > W.touched_dofs() || (!solved && max_iterations - result.iterations < kMinActiveSweeps)) {
+      const PgsResult rest =
+          solve_pgs(W, c, weight, rows, max_iterations - result.iterations, tolerance, subspace_interval);
+      result.iterations += rest.iterations;
+      result.subspace_products += rest.subspace_products;
+      result.residual = rest.residual;
+      break;
+    }
+    ++m_rounds;
+    extend_block(W, m);
     // Swept in the rows' own order (as solve_pgs on W would: the order of the table, tets
     // then contacts), whatever order they joined in: position p is row m_order[p], whose
     // entries sit in W_AA's slot m_position[row].

@@ -12,7 +12,9 @@
 // than it saves). Then the rows outside A (multiplier 0) are checked against w = T lambda + c
 // (one product over A's columns of T), right away, whenever A meets the tolerance and every
 // 32 sweeps; every row that violates its condition joins A (its entries added to W_AA) for
-// another round. Sweeps go in the table's row order, as solve_pgs's over W.
+// another round. Sweeps go in the table's row order, as solve_pgs's over W. Where A would
+// hold more rows than T has entries per column (an update on W_AA then costs more than one
+// on T), or fewer than 4 sweeps are left after the first 4, the sweeps go on over every row.
 // It stops on the same test as solve_pgs, over every row: each row's natural residual times
 // its weight at most `tolerance`. Rows outside A have lambda 0 throughout, so the two solve
 // the same LCP; only the path differs.
@@ -35,11 +37,14 @@ struct PgsRows {
 class ActiveSetPgs {
  public:
   // As solve_pgs(W, c, weight, rows, ...); W factored (W.dense() false), built for rows.
-  // Iterations count the sweeps over A, all rounds together, within max_iterations.
+  // Iterations count every sweep (over every row, then over A in each round) within
+  // max_iterations.
   PgsResult solve(Delassus& W, const Eigen::Ref<const VecX>& c, const Eigen::Ref<const VecX>& weight,
                   RowTable& rows, int max_iterations, double tolerance, int subspace_interval);
-  // Rows in A at the end of the last solve, and the rounds it took (tests, diagnostics).
+  // Rows in A at the end of the last solve, whether row i was among them, and the rounds on
+  // A it took (0: it ended on T) (tests, diagnostics).
   int active_rows() const { return static_cast<int>(m_active.size()); }
+  bool in_active(int i) const { return i < static_cast<int>(m_position.size()) && m_position[i] >= 0; }
   int rounds() const { return m_rounds; }
 
   // W_AA as a solve_pgs operator over A's positions p (the rows' order), whose entries sit in
@@ -71,7 +76,7 @@ class ActiveSetPgs {
   void add(const RowTable& rows, int i);
   void add_one(int i);
   // W_AA's entries for the rows added since the last call (columns first built).
-  void extend_block(const Delassus& W);
+  void extend_block(const Delassus& W, int rows);
 
   std::vector<int> m_active;    // A's rows, in the order they joined
   std::vector<int> m_position;  // per row: its position in A, or -1

@@ -132,10 +132,11 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
   };
   thread_local std::vector<Tet> tets_storage;  // kept storage
   std::vector<Tet>& tets = tets_storage;
-  // Sized by the table (at most a tet and a block per row), as the solver's other buffers:
-  // they grow only with it, not at every new count of rows with force.
-  tets.reserve(rows.size());
-  rows.curvature_blocks.reserve(rows.size());
+  // Sized by the table's strain rows (at most a tet and a block each), as the solver's other
+  // buffers: they grow only with it, not at every new count of rows with force.
+  const int strain_rows = rows.count(RowKind::Strain);
+  tets.reserve(strain_rows);
+  rows.curvature_blocks.reserve(rows.curvature_blocks.size() + strain_rows);
   tets.clear();
   int blocks = static_cast<int>(rows.curvature_blocks.size());
   for (int i = 0; i < rows.size(); ++i) {

@@ -2,6 +2,9 @@
 // the factored W: the same LCP, the same stopping test over every row.
 #include <doctest/doctest.h>
 
+#include <tbb/global_control.h>
+
+#include <cstring>
 #include <random>
 
 #include "engine/constraints/delassus.hpp"
@@ -15,12 +18,13 @@ using namespace sinew::test;
 namespace {
 
 // Every row's natural residual times its weight, from W formed whole: the test both
-// solvers stop on, computed independently of either.
+// solvers stop on, computed independently of either (rows with W_ii = 0 skipped, as there).
 double weighted_residual(const MatX& W, const VecX& c, const VecX& weight, const RowTable& rows) {
   const Eigen::Map<const VecX> lambda(rows.lambda.data(), rows.size());
   const VecX w = W * lambda + c;
   double worst = 0;
   for (int i = 0; i < rows.size(); ++i) {
+    if (!(W(i, i) > 0)) continue;
     double lo, hi;
     pgs_bounds(rows, lambda, i, lo, hi);
     worst = std::max(worst, std::abs(std::clamp(lambda[i] - w[i] / W(i, i), lo, hi) - lambda[i]) * W(i, i) * weight[i]);
@@ -35,19 +39,25 @@ struct Lcp {
   VecX c, weight;
 };
 
-// A factored LCP: `rows` rows on `nodes` nodes (node 0 fixed), with a solution by
-// construction (W singular: a random c may have none): c = w* - W lambda*, lambda* > 0 on
-// about half the rows, w* > 0 on the others; weights of either kind's scale.
-Lcp random_lcp(int nodes, int rows, std::mt19937& rng) {
-  Lcp lcp;
-  lcp.problem = random_problem(nodes, rows, rng);
+// The touched inverse for the problem's rows and its W formed whole.
+MatX prepare(Lcp& lcp) {
   const Eigen::LLT<MatX> llt(lcp.problem.H);
   lcp.inverse = touched_inverse(lcp.problem, llt, lcp.local_node);
   const MatX J = jacobian(lcp.problem);
-  const MatX W = J * llt.solve(J.transpose());
+  return J * llt.solve(J.transpose());
+}
+
+// A factored LCP: `rows` rows on `nodes` nodes (node 0 fixed), with a solution by
+// construction (W singular: a random c may have none): c = w* - W lambda*, lambda* > 0 on
+// about `pressed` of the rows, w* > 0 on the others; weights of either kind's scale. With
+// fewer pressed rows than DOFs the active set stays below T's height, where it is used.
+Lcp random_lcp(int nodes, int rows, double pressed, std::mt19937& rng) {
+  Lcp lcp;
+  lcp.problem = random_problem(nodes, rows, rng);
+  const MatX W = prepare(lcp);
   std::uniform_real_distribution<double> unit(0.0, 1.0), scale(0.5, 2.0);
   VecX lambda_star = VecX::Zero(rows), w_star = VecX::Zero(rows);
-  for (int i = 0; i < rows; ++i) (unit(rng) < 0.5 ? lambda_star[i] : w_star[i]) = scale(rng);
+  for (int i = 0; i < rows; ++i) (unit(rng) < pressed ? lambda_star[i] : w_star[i]) = scale(rng);
   lcp.c = w_star - W * lambda_star;
   lcp.weight.resize(rows);
   for (int i = 0; i < rows; ++i) lcp.weight[i] = scale(rng);
@@ -60,7 +70,7 @@ TEST_CASE("active-set PGS: the factored LCP's solution, every row within the tol
   std::mt19937 rng(21);
   for (const bool warm : {false, true}) {
     CAPTURE(warm);
-    Lcp lcp = random_lcp(8, 80, rng);  // 80 rows on 21 DOFs: redundant, W singular
+    Lcp lcp = random_lcp(30, 150, 0.25, rng);  // 150 rows on 87 DOFs: W singular
     RowTable& rows = lcp.problem.rows;
     if (warm)  // a warm start on every third row, some of which will have to let go
       for (int i = 0; i < rows.size(); i += 3) rows.lambda[i] = 0.1;
@@ -73,16 +83,20 @@ TEST_CASE("active-set PGS: the factored LCP's solution, every row within the tol
     ActiveSetPgs active;
     const PgsResult a = active.solve(W, lcp.c, lcp.weight, rows, 200000, tolerance, 8);
     const PgsResult b = solve_pgs(W_all, lcp.c, lcp.weight, all_rows, 200000, tolerance, 8);
-    MESSAGE("active set: " << a.iterations << " sweeps over " << active.active_rows() << " of " << rows.size()
-                           << " rows in " << active.rounds() << " rounds; every row: " << b.iterations << " sweeps");
+    MESSAGE("active set: " << a.iterations << " sweeps, " << active.active_rows() << " of " << rows.size()
+                           << " rows in A after " << active.rounds() << " rounds; every row: " << b.iterations << " sweeps");
+    CHECK(active.rounds() >= 1);  // it did sweep on A (not on T throughout)
+    CHECK(active.active_rows() < rows.size());  // the point: some rows are never swept there
     CHECK(a.residual <= tolerance);
     CHECK(b.residual <= tolerance);
     const MatX Wm = W.matrix();
     CHECK(weighted_residual(Wm, lcp.c, lcp.weight, rows) <= 1.01 * tolerance);  // round-off of w only
-    CHECK(active.active_rows() < rows.size());  // the point: some rows are never swept
     int carrying = 0;
-    for (int i = 0; i < rows.size(); ++i) carrying += rows.lambda[i] != 0;
-    CHECK(carrying <= active.active_rows());  // no row outside A carries force
+    for (int i = 0; i < rows.size(); ++i)
+      if (rows.lambda[i] != 0) {
+        ++carrying;
+        CHECK(active.in_active(i));  // no row outside A carries force
+      }
     CHECK(carrying > 0);
     // W lambda is the same at every solution of a PSD LCP (lambda need not be, W singular);
     // at residuals of 1e-10 the two agree to about its square root.
@@ -91,15 +105,39 @@ TEST_CASE("active-set PGS: the factored LCP's solution, every row within the tol
   }
 }
 
+TEST_CASE("active-set PGS: one instance reused across sizes, A growing over rounds") {
+  std::mt19937 rng(24);
+  ActiveSetPgs active;  // its storage (W_AA's stride, the per-row maps) carries over
+  int grew = 0;
+  for (const auto& [nodes, m] : {std::pair{30, 150}, std::pair{12, 60}, std::pair{40, 220}, std::pair{20, 90},
+                                 std::pair{40, 200}}) {
+    CAPTURE(m);
+    Lcp lcp = random_lcp(nodes, m, 0.3, rng);
+    RowTable& rows = lcp.problem.rows;
+    Delassus W;
+    W.build(rows, lcp.local_node, lcp.inverse);
+    REQUIRE_FALSE(W.dense());
+    const double tolerance = 1e-10;
+    const PgsResult result = active.solve(W, lcp.c, lcp.weight, rows, 200000, tolerance, 8);
+    CHECK(result.residual <= tolerance);
+    CHECK(weighted_residual(W.matrix(), lcp.c, lcp.weight, rows) <= 1.01 * tolerance);
+    grew += active.rounds() > 1;
+  }
+  MESSAGE(grew << " of 5 solves added rows to A after its first round");
+  CHECK(grew >= 1);
+}
+
 TEST_CASE("active-set PGS: a contact's friction rows join with their normal row and keep its box") {
   std::mt19937 rng(22);
   std::normal_distribution<double> normal;
-  Lcp lcp = random_lcp(8, 40, rng);
+  Lcp lcp;
+  lcp.problem = random_problem(30, 120, rng);
   RowTable& rows = lcp.problem.rows;
-  // Six contacts on free nodes: a normal row pushed hard, two friction rows with mu 0.5.
+  // Six contacts, one on the fixed node 0 (its rows move nothing: W_ii = 0), the others on
+  // free nodes: a normal row and two friction rows with mu 0.5.
   const int strain_rows = rows.size();
   for (int k = 0; k < 6; ++k) {
-    const int node = 1 + k;
+    const int node = k == 0 ? 0 : k;
     const Vec3 n = Vec3(normal(rng), normal(rng), normal(rng)).normalized();
     const Vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
     const int normal_row = rows.add_row(RowKind::Contact, 0, 0, 1e300, 1000 + k);
@@ -112,22 +150,22 @@ TEST_CASE("active-set PGS: a contact's friction rows join with their normal row 
     }
   }
   const int m = rows.size();
-  const Eigen::LLT<MatX> llt(lcp.problem.H);
-  lcp.inverse = touched_inverse(lcp.problem, llt, lcp.local_node);
-  // A solution by construction: the strain rows free (lambda* 0, w* > 0), every contact
+  const MatX Wm = prepare(lcp);
+  // A solution by construction: a quarter of the strain rows pressed, every free contact
   // pressed (lambda_n* 1) with friction inside its box (w* 0) or on it (w* pushing outwards).
-  const MatX J = jacobian(lcp.problem);
-  const MatX Wm = J * llt.solve(J.transpose());
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   VecX lambda_star = VecX::Zero(m), w_star = VecX::Zero(m);
-  for (int i = 0; i < strain_rows; ++i) w_star[i] = 1.0;
-  for (int i = strain_rows; i < m; ++i) {
+  for (int i = 0; i < strain_rows; ++i) (unit(rng) < 0.25 ? lambda_star[i] : w_star[i]) = 1.0;
+  for (int i = strain_rows + 3; i < m; ++i) {
     if (rows.normal_row[i] < 0) lambda_star[i] = 1.0;
-    else if (i % 3 == 0) lambda_star[i] = 0.5, w_star[i] = -0.2;  // sliding: on its box, w pushing out
-    else lambda_star[i] = 0.2 * normal(rng) * 0.5;  // sticking: inside the box, w 0
+    else if ((i - strain_rows) % 3 == 2) lambda_star[i] = 0.5, w_star[i] = -0.2;  // sliding: on its box, w pushing out
+    else lambda_star[i] = 0.1 * normal(rng);  // sticking: inside the box, w 0
   }
   lcp.c = w_star - Wm * lambda_star;
   lcp.weight = VecX::Ones(m);
-  // A warm start on one friction row only: its normal and its sibling must join with it.
+  // The fixed contact: a friction row with a warm multiplier whose normal row has none.
+  // Plain sweeps skip both (W_ii = 0), so the friction row enters A by its multiplier alone,
+  // and its box needs its normal row in A too.
   rows.lambda[strain_rows + 1] = 0.01;
   Delassus W;
   W.build(rows, lcp.local_node, lcp.inverse);
@@ -135,34 +173,62 @@ TEST_CASE("active-set PGS: a contact's friction rows join with their normal row 
   const double tolerance = 1e-10;
   ActiveSetPgs active;
   const PgsResult result = active.solve(W, lcp.c, lcp.weight, rows, 200000, tolerance, 8);
+  CHECK(active.rounds() >= 1);
+  CHECK(active.in_active(strain_rows + 1));
+  CHECK(active.in_active(strain_rows));      // its normal row, which has no multiplier
+  CHECK(active.in_active(strain_rows + 2));  // and its sibling
   CHECK(result.residual <= tolerance);
-  CHECK(weighted_residual(W.matrix(), lcp.c, lcp.weight, rows) <= 1.01 * tolerance);
+  CHECK(weighted_residual(Wm, lcp.c, lcp.weight, rows) <= 1.01 * tolerance);
   int sliding = 0;
-  for (int i = strain_rows; i < m; ++i) {
+  for (int i = strain_rows + 3; i < m; ++i) {
     if (rows.normal_row[i] < 0) {
-      CHECK(rows.lambda[i] > 0);  // every contact carries force
+      CHECK(rows.lambda[i] > 0);  // every free contact carries force
       continue;
     }
-    const double box = 0.5 * rows.lambda[rows.normal_row[i]];
+    const int normal_row = rows.normal_row[i];
+    CHECK(active.in_active(normal_row));
+    const double box = 0.5 * rows.lambda[normal_row];
     CHECK(std::abs(rows.lambda[i]) <= box * (1 + 1e-12));
     sliding += std::abs(rows.lambda[i]) >= box * (1 - 1e-9);
   }
-  MESSAGE(sliding << " of 12 friction rows on their box");
+  MESSAGE(sliding << " of 10 free friction rows on their box");
   CHECK(sliding >= 1);
 }
 
 TEST_CASE("active-set PGS: its sweeps stay within the cap and it reports the residual of every row") {
   std::mt19937 rng(23);
-  for (const int cap : {1, 3, 10}) {
+  // 5: one sweep left after the plain ones (too few to form W_AA); 10: a short round on A;
+  // 36, 37: a round boundary (4 plain sweeps + 32); 100: several rounds.
+  for (const int cap : {5, 10, 36, 37, 100}) {
     CAPTURE(cap);
-    Lcp lcp = random_lcp(8, 80, rng);
+    Lcp lcp = random_lcp(30, 150, 0.25, rng);
     RowTable& rows = lcp.problem.rows;
     Delassus W;
     W.build(rows, lcp.local_node, lcp.inverse);
     ActiveSetPgs active;
-    const PgsResult result = active.solve(W, lcp.c, lcp.weight, rows, cap, 1e-12, 8);
+    const PgsResult result = active.solve(W, lcp.c, lcp.weight, rows, cap, 0, 8);  // tolerance 0
     CHECK(result.iterations <= cap);
-    CHECK(result.residual > 1e-12);  // not converged in so few sweeps
+    if (result.iterations < cap) CHECK(result.residual == 0);  // only an exact solution stops it sooner
+    if (cap <= 10) CHECK(result.residual > 0);
     CHECK(result.residual == doctest::Approx(weighted_residual(W.matrix(), lcp.c, lcp.weight, rows)).epsilon(1e-9));
+    if (cap == 5) CHECK(active.rounds() == 0);
+    if (cap >= 10) CHECK(active.rounds() >= 1);
   }
+}
+
+TEST_CASE("active-set PGS: the same multipliers on 1 and 2 threads") {
+  std::mt19937 rng(25);
+  const Lcp lcp = random_lcp(40, 220, 0.3, rng);  // W_AA's new columns split over tasks
+  std::vector<double> lambda[2];
+  for (const int threads : {1, 2}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    RowTable rows = lcp.problem.rows;
+    Delassus W;
+    W.build(rows, lcp.local_node, lcp.inverse);
+    ActiveSetPgs active;
+    active.solve(W, lcp.c, lcp.weight, rows, 200000, 1e-10, 8);
+    CHECK(active.rounds() >= 1);
+    lambda[threads - 1] = rows.lambda;
+  }
+  CHECK(std::memcmp(lambda[0].data(), lambda[1].data(), sizeof(double) * lambda[0].size()) == 0);
 }
