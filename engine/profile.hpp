@@ -80,6 +80,8 @@ struct StepProfile {
     rolled_back_ms = 0;
     finite = true;
   }
+  // Whether stage s did its work (no reason to skip it was given).
+  bool ran(Stage s) const { return skipped[static_cast<int>(s)].empty(); }
   // The constraint solve's time: its stages' sum (is_constraint_stage).
   double constraint_ms() const {
     double sum = 0;

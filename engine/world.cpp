@@ -78,6 +78,13 @@ bool World::step() {
   const auto start = Clock::now();
   State& s = m_state;
   if (attempt_step()) return true;
+  // The profile describes the attempt that stood; the step's time counts the ones rolled
+  // back before it too, apart.
+  const auto time_whole_step = [&] {
+    const double own_ms = s.profile.step_ms;
+    s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    s.profile.rolled_back_ms = s.profile.step_ms - own_ms;
+  };
   // Retries run at the scene's caps: the budget's may be what made the step fail.
   const IterationCaps caps = s.caps;
   s.caps = {};
@@ -91,9 +98,7 @@ bool World::step() {
     s.caps = caps;
     if (ok) {
       ++s.profile.iterations["budget_guard_retries"];
-      const double own_ms = s.profile.step_ms;
-      s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-      s.profile.rolled_back_ms = s.profile.step_ms - own_ms;
+      time_whole_step();
       return true;
     }
     s.caps = {};
@@ -138,9 +143,7 @@ bool World::step() {
   }
   s.profile.finite = ok;
   s.profile.iterations["step_retries"] = retries;
-  const double own_ms = s.profile.step_ms;  // the attempt this profile describes
-  s.profile.step_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-  s.profile.rolled_back_ms = s.profile.step_ms - own_ms;
+  time_whole_step();
   return ok;
 }
 

@@ -23,6 +23,8 @@ class World {
   const State& state() const { return m_state; }
   State& mutable_state() { return m_state; }
   const StepProfile& profile() const { return m_state.profile; }
+  // Whether the linear solver is CHOLMOD (not PCG): the one that can keep a factorisation.
+  bool uses_cholmod() const { return m_solver.uses_cholmod(); }
 
   double kinetic_energy() const;
   // FNV-1a over the bit patterns of x and v: equal hashes mean identical states.

@@ -170,11 +170,7 @@ void Delassus::multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> o
   }
   Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
   factored_product(lambda, u);
-  for (int i = 0; i < size(); ++i) {
-    double s = 0;
-    for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(u.segment<3>(3 * m_local[e]));
-    out[i] = s;
-  }
+  for (int i = 0; i < size(); ++i) out[i] = stencil_dot(i, u.data(), 0.0);
 }
 
 void Delassus::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x,
@@ -184,12 +180,10 @@ void Delassus::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<cons
     return;
   }
   const int n = static_cast<int>(rows.size());
-  out.setZero();
   Eigen::Map<VecX> u = m_product_storage.vector(m_k3);
   u.setZero();
   for (int b = 0; b < n; ++b) add_scaled(u.data(), column(rows[b]), x[b], m_k3);
-  for (int a = 0; a < n; ++a)
-    for (int e = m_begin[rows[a]]; e < m_begin[rows[a] + 1]; ++e) out[a] += m_jac[e].dot(u.segment<3>(3 * m_local[e]));
+  for (int a = 0; a < n; ++a) out[a] = stencil_dot(rows[a], u.data(), 0.0);
 }
 
 MatX Delassus::matrix() const {

@@ -90,6 +90,9 @@ class Delassus {
   // Factored form: column i of T, built on first use (build_column).
   void build_column(int i) const;
   const double* column(int i) const;
+  // start + Jc_i u over row i's stencil (u: 3k values in touched-node order), each node's term
+  // added in stencil order.
+  double stencil_dot(int i, const double* u, double start) const;
   // u = T lambda over the columns whose multiplier is not 0.
   void factored_product(const Eigen::Ref<const VecX>& lambda, Eigen::Map<VecX>& u) const;
 
@@ -116,19 +119,19 @@ class Delassus {
   mutable ScratchMatrix m_c_storage, m_state_storage, m_product_storage;  // dense: w; factored: u = T lambda
 };
 
-inline double Delassus::w(int i) const {
-  if (m_dense) return m_state_data[i];
-  double s = m_c_data[i];
-  for (int e = m_begin[i]; e < m_begin[i + 1]; ++e)
-    s += m_jac[e].dot(Eigen::Map<const Vec3>(m_state_data + 3 * m_local[e]));
+inline double Delassus::stencil_dot(int i, const double* u, double start) const {
+  double s = start;
+  for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(Eigen::Map<const Vec3>(u + 3 * m_local[e]));
   return s;
 }
 
+inline double Delassus::w(int i) const {
+  if (m_dense) return m_state_data[i];
+  return stencil_dot(i, m_state_data, m_c_data[i]);
+}
+
 inline double Delassus::entry(int i, int j) const {
-  const double* t = m_T_storage.data() + static_cast<std::size_t>(j) * m_k3;
-  double s = 0;
-  for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) s += m_jac[e].dot(Eigen::Map<const Vec3>(t + 3 * m_local[e]));
-  return s;
+  return stencil_dot(i, m_T_storage.data() + static_cast<std::size_t>(j) * m_k3, 0.0);
 }
 
 inline void Delassus::changed(int i, double delta) {

@@ -106,9 +106,9 @@ PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, cons
     if (rows.normal_row[i] >= 0) ++m_friction_begin[rows.normal_row[i] + 1];
   for (int i = 0; i < m; ++i) m_friction_begin[i + 1] += m_friction_begin[i];
   m_friction_rows.resize(m_friction_begin[m]);
-  m_outside_violated.assign(m_friction_begin.begin(), m_friction_begin.end() - 1);  // cursors
+  m_friction_cursor.assign(m_friction_begin.begin(), m_friction_begin.end() - 1);
   for (int i = 0; i < m; ++i)
-    if (rows.normal_row[i] >= 0) m_friction_rows[m_outside_violated[rows.normal_row[i]]++] = i;
+    if (rows.normal_row[i] >= 0) m_friction_rows[m_friction_cursor[rows.normal_row[i]]++] = i;
   if (max_iterations <= 0) return result;
   // The first sweeps over every row on T: most LCPs of a settled scene end within them (the
   // side-pressed finger's median LCP), where forming W_AA would cost more than it saves;
@@ -136,7 +136,7 @@ PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, cons
       if (m_position[i] >= 0 || !(W.diagonal(i) > 0)) continue;
       double lo, hi;
       pgs_bounds(rows, lambda, i, lo, hi);
-      const double residual = std::abs(std::clamp(-W.w(i) / W.diagonal(i), lo, hi)) * W.diagonal(i) * weight[i];
+      const double residual = natural_residual(0.0, W.w(i), W.diagonal(i), lo, hi) * weight[i];  // lambda_i = 0
       outside = std::max(outside, residual);
       if (residual > 0) m_outside_violated.push_back(i);
     }

@@ -80,7 +80,7 @@ class ActiveSetPgs {
 
   std::vector<int> m_active;    // A's rows, in the order they joined
   std::vector<int> m_position;  // per row: its position in A, or -1
-  std::vector<int> m_friction_begin, m_friction_rows;  // per normal row: its friction rows
+  std::vector<int> m_friction_begin, m_friction_rows, m_friction_cursor;  // per normal row: its friction rows
   std::vector<int> m_outside_violated;
   std::vector<int> m_order, m_slot, m_sorted;  // A by row; per position its slot; per row its position
   int m_formed = 0;  // rows of A whose entries W_AA holds

@@ -31,6 +31,12 @@ inline void pgs_bounds(const Rows& rows, const Lambda& lambda, int i, double& lo
   }
 }
 
+// Row i's natural residual |clamp(lambda_i - w_i / W_ii, lo, hi) - lambda_i| W_ii: 0 when the
+// row meets its complementarity conditions, else how far, in the units of w.
+inline double natural_residual(double lambda, double w, double diagonal, double lo, double hi) {
+  return std::abs(std::clamp(lambda - w / diagonal, lo, hi) - lambda) * diagonal;
+}
+
 // W given through an operator (delassus.hpp, or DenseLcpMatrix below) with
 //   diagonal(i), start(lambda, c) (w = W lambda + c from scratch), w(i), changed(i, delta).
 // W symmetric positive semi-definite with a positive diagonal. Starts from rows.lambda (warm
@@ -77,8 +83,7 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
       if (!(W.diagonal(i) > 0)) continue;
       double lo, hi;
       pgs_bounds(rows, lambda, i, lo, hi);
-      const double projected = std::clamp(lambda[i] - W.w(i) / W.diagonal(i), lo, hi);
-      result.residual = std::max(result.residual, std::abs(projected - lambda[i]) * W.diagonal(i) * weight[i]);
+      result.residual = std::max(result.residual, natural_residual(lambda[i], W.w(i), W.diagonal(i), lo, hi) * weight[i]);
     }
     if (result.residual <= tolerance) break;
     if (subspace_interval > 0 && (it + 1) % subspace_interval == 0 && it + 1 < max_iterations) {
@@ -113,7 +118,8 @@ inline PgsResult solve_pgs(const MatX& W, const VecX& c, RowTable& rows, int max
 }
 
 // Largest violation of the LCP conditions at lambda (0 at an exact solution), in the
-// units of w; for tests and diagnostics.
-double lcp_residual(const MatX& W, const VecX& c, const RowTable& rows);
+// units of w, each row's times its weight (none: 1), rows with W_ii = 0 left out as
+// solve_pgs leaves them; for tests and diagnostics.
+double lcp_residual(const MatX& W, const VecX& c, const RowTable& rows, const VecX* weight = nullptr);
 
 }  // namespace sinew

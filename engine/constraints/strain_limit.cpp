@@ -254,7 +254,7 @@ void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVaria
   const SvdRotationDerivative d = compute_svd_rotation_derivative(svd, gap_tolerance);
   for (int t = 0; t < terms.count; ++t) {
     const Term& term = terms.term[t];
-    if (!(term.C < margin || (keep >> term.k & 1u))) continue;
+    if (!terms.wanted(term.k, term.C)) continue;  // C below the margin, or kept: P and Q are set
     // dC/dF = sum_l P_l u_l v_l^T + sum_l (dV e_l) . (M Q^T e_l), entry by entry
     // (dc_lj = (dV e_l) . m_j): <dV, W> with W = M Q^T, = <Omega_V, X> with X = V^T W,
     // Omega_V antisymmetric: sum over pairs k < l of Omega_V(k, l) (X_kl - X_lk).

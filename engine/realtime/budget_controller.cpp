@@ -42,8 +42,8 @@ IterationCaps BudgetController::caps(double elapsed_ms, int steps_left, const St
   // whole factorisation, and the one after a factorisation over-forecast).
   double factorisation_change = 0;
   if (next.known && newton == 0) {
-    const bool last_factorised = last.skipped[static_cast<int>(Stage::Factorize)].empty();
-    factorisation_change = (next.factorises ? next.factorize_ms : 0.0) - (last_factorised ? stage_ms(last, Stage::Factorize) : 0.0);
+    factorisation_change =
+        (next.factorises ? next.factorize_ms : 0.0) - (last.ran(Stage::Factorize) ? stage_ms(last, Stage::Factorize) : 0.0);
   }
   // A step retried after the budget's caps left it outside its tolerances (World::step) is
   // judged by the attempt that stood: the rolled-back one would otherwise read as fixed cost

@@ -30,12 +30,12 @@ FrameStats RealtimeLoop::frame(World& world, int steps) {
     const double elapsed = std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
     const StepProfile& last = world.profile();
     const bool linear = !world.model().has_hyperelastic;  // Newton's factorisations are its own
-    if (linear && last.step_ms > 0 && last.skipped[static_cast<int>(Stage::Factorize)].empty())
+    if (linear && last.step_ms > 0 && last.ran(Stage::Factorize))
       m_factorize_ms = last.ms[static_cast<int>(Stage::Factorize)];
     FactorisationForecast next;
     // A change of the sleeping set forces a factorisation the rule cannot see.
     next.known = linear && !world.state().sleep.changed;
-    next.factorises = !reuses_factorisation(world.model(), world.model().solver.linear != "pcg", world.state());
+    next.factorises = !reuses_factorisation(world.model(), world.uses_cholmod(), world.state());
     next.factorize_ms = m_factorize_ms;
     world.mutable_state().caps = m_budget->caps(elapsed, steps - i, last, next);
   });

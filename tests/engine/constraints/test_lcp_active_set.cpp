@@ -1,5 +1,6 @@
 // PGS on the active set with W_AA formed (lcp_active_set.hpp) against PGS over every row on
-// the factored W: the same LCP, the same stopping test over every row.
+// the factored W: the same LCP, the same stopping test over every row (lcp_residual on W
+// formed whole: the weighted natural residual, computed independently of either solver).
 #include <doctest/doctest.h>
 
 #include <tbb/global_control.h>
@@ -16,21 +17,6 @@ using namespace sinew;
 using namespace sinew::test;
 
 namespace {
-
-// Every row's natural residual times its weight, from W formed whole: the test both
-// solvers stop on, computed independently of either (rows with W_ii = 0 skipped, as there).
-double weighted_residual(const MatX& W, const VecX& c, const VecX& weight, const RowTable& rows) {
-  const Eigen::Map<const VecX> lambda(rows.lambda.data(), rows.size());
-  const VecX w = W * lambda + c;
-  double worst = 0;
-  for (int i = 0; i < rows.size(); ++i) {
-    if (!(W(i, i) > 0)) continue;
-    double lo, hi;
-    pgs_bounds(rows, lambda, i, lo, hi);
-    worst = std::max(worst, std::abs(std::clamp(lambda[i] - w[i] / W(i, i), lo, hi) - lambda[i]) * W(i, i) * weight[i]);
-  }
-  return worst;
-}
 
 struct Lcp {
   Problem problem;
@@ -90,7 +76,7 @@ TEST_CASE("active-set PGS: the factored LCP's solution, every row within the tol
     CHECK(a.residual <= tolerance);
     CHECK(b.residual <= tolerance);
     const MatX Wm = W.matrix();
-    CHECK(weighted_residual(Wm, lcp.c, lcp.weight, rows) <= 1.01 * tolerance);  // round-off of w only
+    CHECK(lcp_residual(Wm, lcp.c, rows, &lcp.weight) <= 1.01 * tolerance);  // round-off of w only
     int carrying = 0;
     for (int i = 0; i < rows.size(); ++i)
       if (rows.lambda[i] != 0) {
@@ -120,7 +106,7 @@ TEST_CASE("active-set PGS: one instance reused across sizes, A growing over roun
     const double tolerance = 1e-10;
     const PgsResult result = active.solve(W, lcp.c, lcp.weight, rows, 200000, tolerance, 8);
     CHECK(result.residual <= tolerance);
-    CHECK(weighted_residual(W.matrix(), lcp.c, lcp.weight, rows) <= 1.01 * tolerance);
+    CHECK(lcp_residual(W.matrix(), lcp.c, rows, &lcp.weight) <= 1.01 * tolerance);
     grew += active.rounds() > 1;
   }
   MESSAGE(grew << " of 5 solves added rows to A after its first round");
@@ -178,7 +164,7 @@ TEST_CASE("active-set PGS: a contact's friction rows join with their normal row 
   CHECK(active.in_active(strain_rows));      // its normal row, which has no multiplier
   CHECK(active.in_active(strain_rows + 2));  // and its sibling
   CHECK(result.residual <= tolerance);
-  CHECK(weighted_residual(Wm, lcp.c, lcp.weight, rows) <= 1.01 * tolerance);
+  CHECK(lcp_residual(Wm, lcp.c, rows, &lcp.weight) <= 1.01 * tolerance);
   int sliding = 0;
   for (int i = strain_rows + 3; i < m; ++i) {
     if (rows.normal_row[i] < 0) {
@@ -210,7 +196,7 @@ TEST_CASE("active-set PGS: its sweeps stay within the cap and it reports the res
     CHECK(result.iterations <= cap);
     if (result.iterations < cap) CHECK(result.residual == 0);  // only an exact solution stops it sooner
     if (cap <= 10) CHECK(result.residual > 0);
-    CHECK(result.residual == doctest::Approx(weighted_residual(W.matrix(), lcp.c, lcp.weight, rows)).epsilon(1e-9));
+    CHECK(result.residual == doctest::Approx(lcp_residual(W.matrix(), lcp.c, rows, &lcp.weight)).epsilon(1e-9));
     if (cap == 5) CHECK(active.rounds() == 0);
     if (cap >= 10) CHECK(active.rounds() >= 1);
   }
