@@ -3,6 +3,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cassert>
+#include <limits>
 
 #include "engine/assembly/element_kernels.hpp"
 #include "engine/constraints/strain_limit_curvature.hpp"
@@ -25,9 +27,14 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc) {
 struct StrainRowBuffers {
   std::vector<double> worst;
   std::vector<RotationVariantSvd> svds;
+  std::vector<StrainLimitValues> values;
   std::vector<std::pair<int, uint32_t>> kept;
   std::vector<int> candidates;
+  std::vector<uint32_t> masks;  // per candidate, its kept constraints
   std::vector<StrainLimitRows> found;
+  // A build with deferred Jacobians: its first row in the table, its margin (-1: none pending).
+  int deferred_first_row = -1;
+  double deferred_margin = 0;
 };
 
 namespace {
@@ -47,20 +54,40 @@ Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
   return element_center_deformation_gradient(model, e, gather_element_nodes(model, x, e));
 }
 
-// Per element, the worst violation (-inf without strain limits) and, when `svds` is given,
-// the SVD of its F (for the rows: one SVD per tet and build), into `worst`.
+// Per element, the worst violation (-inf without strain limits) into `worst` and, for the
+// rows, the SVD of its F and its constraint values (one SVD and one evaluation per tet and
+// build) into `buffers`.
 const std::vector<double>& worst_per_element(const Model& model, const VecX& x, std::vector<double>& worst,
-                                             std::vector<RotationVariantSvd>* svds = nullptr) {
+                                             StrainRowBuffers* buffers = nullptr) {
   worst.assign(model.num_elements, -1e300);
-  if (svds) svds->resize(model.num_elements);
+  if (buffers) {
+    buffers->svds.resize(model.num_elements);
+    buffers->values.resize(model.num_elements);
+  }
   tbb::parallel_for(0, model.num_elements, [&](int e) {
     if (!is_limited(model, e)) return;
     const StrainLimitSpec spec = tet_spec(model, e);
     const RotationVariantSvd svd = compute_rotation_variant_svd(tet_deformation_gradient(model, x, e));
-    worst[e] = worst_strain_violation(spec, svd);
-    if (svds) (*svds)[e] = svd;
+    const StrainLimitValues values = compute_strain_limit_values(spec, svd);
+    double w = -std::numeric_limits<double>::infinity();  // as worst_strain_violation
+    for (int k = 0; k < kStrainLimitCount; ++k)
+      if (values.present >> k & 1u) w = std::max(w, -values.C[k]);
+    worst[e] = w;
+    if (buffers) buffers->svds[e] = svd, buffers->values[e] = values;
   });
   return worst;
+}
+
+// The rows of one tet without their Jacobians: those evaluate_strain_limit_rows makes (C
+// below the margin, or kept), in its order (index order), from the values it would compute.
+void rows_without_jacobians(const StrainLimitValues& values, double margin, uint32_t keep, StrainLimitRows& out) {
+  out.count = 0;
+  for (int k = 0; k < kStrainLimitCount; ++k)
+    if ((values.present >> k & 1u) && (values.C[k] < margin || (keep >> k & 1u))) {
+      StrainLimitRow& row = out.row[out.count++];
+      row.index = k;
+      row.value = values.C[k];
+    }
 }
 
 double overall(const Model& model, const std::vector<double>& worst) {
@@ -74,11 +101,12 @@ double overall(const Model& model, const std::vector<double>& worst) {
 
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,
-                             KeptStorage<StrainRowBuffers>* storage) {
+                             KeptStorage<StrainRowBuffers>* storage, StrainJacobians jacobians) {
   if (!model.has_strain_limits) return -1;
   StrainRowBuffers& buffers = kept_or_thread_local(storage);
-  std::vector<RotationVariantSvd>& svds = buffers.svds;
-  const std::vector<double>& worst = worst_per_element(model, x, buffers.worst, &svds);
+  buffers.deferred_first_row = -1;
+  const std::vector<RotationVariantSvd>& svds = buffers.svds;
+  const std::vector<double>& worst = worst_per_element(model, x, buffers.worst, &buffers);
   // Kept constraints per tet, as bit masks over the constraint index k.
   std::vector<std::pair<int, uint32_t>>& kept = buffers.kept;
   std::vector<int>& candidates = buffers.candidates;
@@ -99,26 +127,60 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     if (is_limited(model, e) && (worst[e] > -margin || has_kept)) candidates.push_back(e);
   }
   found.resize(candidates.size());
+  std::vector<uint32_t>& masks = buffers.masks;
+  masks.resize(candidates.size());
+  const bool defer = jacobians == StrainJacobians::Deferred;
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
     const int e = candidates[i];
     const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
                                      [](auto a, auto b) { return a.first < b.first; });
-    const uint32_t mask = (it != kept.end() && it->first == e) ? it->second : 0u;
+    masks[i] = (it != kept.end() && it->first == e) ? it->second : 0u;
+    if (defer) {
+      rows_without_jacobians(buffers.values[e], margin, masks[i], found[i]);
+      return;
+    }
     const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    evaluate_strain_limit_rows(spec, svds[e], dN_dX, margin, mask, found[i]);  // a candidate has rows
+    evaluate_strain_limit_rows(spec, svds[e], dN_dX, margin, masks[i], found[i]);  // a candidate has rows
   });
-  // Rows in element order: the table does not depend on the thread count.
+  if (defer) buffers.deferred_first_row = rows.size(), buffers.deferred_margin = margin;
+  // Rows in element order: the table does not depend on the thread count. Deferred
+  // Jacobians are zero until complete_strain_limit_jacobians.
   for (size_t i = 0; i < candidates.size(); ++i) {
     const int e = candidates[i];
     for (int r = 0; r < found[i].count; ++r) {
       const StrainLimitRow& row = found[i].row[r];
       const int r_index = rows.add_row(RowKind::Strain, row.value, 0.0, 1e300, row_key(RowKind::Strain, e, row.index));
       rows.element[r_index] = e;
-      for (int a = 0; a < 4; ++a) rows.add_entry(model.element_nodes[e][a], row.jac.segment<3>(3 * a));
+      for (int a = 0; a < 4; ++a)
+        rows.add_entry(model.element_nodes[e][a], defer ? Vec3::Zero() : Vec3(row.jac.segment<3>(3 * a)));
     }
   }
   return overall(model, worst);
+}
+
+void complete_strain_limit_jacobians(const Model& model, RowTable& rows, KeptStorage<StrainRowBuffers>* storage) {
+  StrainRowBuffers& buffers = kept_or_thread_local(storage);
+  if (buffers.deferred_first_row < 0) return;
+  const std::vector<int>& candidates = buffers.candidates;
+  std::vector<StrainLimitRows>& found = buffers.found;
+  // The SVDs of the build (nothing else has used the buffers since): the same rows, now
+  // with their Jacobians.
+  tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
+    const int e = candidates[i];
+    const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
+    evaluate_strain_limit_rows(tet_spec(model, e), buffers.svds[e], dN_dX, buffers.deferred_margin, buffers.masks[i],
+                               found[i]);
+  });
+  int r_index = buffers.deferred_first_row;
+  for (size_t i = 0; i < candidates.size(); ++i)
+    for (int r = 0; r < found[i].count; ++r, ++r_index) {
+      const StrainLimitRow& row = found[i].row[r];
+      assert(r_index < rows.size() && rows.kind[r_index] == RowKind::Strain &&
+             rows.key[r_index] == row_key(RowKind::Strain, candidates[i], row.index) && rows.value[r_index] == row.value);
+      for (int a = 0; a < 4; ++a) rows.jac[rows.begin[r_index] + a] = row.jac.segment<3>(3 * a);
+    }
+  buffers.deferred_first_row = -1;
 }
 
 void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& rows) {

@@ -20,7 +20,8 @@ namespace {
 
 // Builds every kind's rows at the iterate (positions x = x0 + h v, velocities v, obstacles
 // at t_end, the end of the step); returns the worst violation relative to each kind's
-// tolerance (<= 1 means converged). A new kind of constraint adds a line here, not a
+// tolerance (<= 1 means converged). The strain rows' Jacobians are deferred: the caller
+// completes them (complete_strain_limit_jacobians) before it uses them. A new kind of constraint adds a line here, not a
 // branch in the solver.
 // Contact: on the first iteration (k = 0) any predicted penetration counts as a violation,
 // so the LCP is solved on every step a contact closes: friction rows have no violation of
@@ -43,7 +44,7 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
                                        &sc.energy_row_buffers);
         if (model.has_strain_limits)
           strain = add_strain_limit_rows(model, x, model.solver.strain_activation_margin, keep, rows,
-                                         &sc.strain_row_buffers);
+                                         &sc.strain_row_buffers, StrainJacobians::Deferred);
       },
       [&] {
         if (contact)
@@ -335,6 +336,15 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // v_base stays v*; the linear model and the rows found within the margin differ, and
   // rows violated only at x* join at the next iteration). Closer than that, x* is the
   // better guess (the resting creature: one SQP iteration fewer from x*).
+  // The strain rows' Jacobians, left out of every build: of the flat finger's 3-7 builds a
+  // step, only those the SQP linearises at (one per QP) need them. The step's last build (its
+  // rows stay in s.rows) keeps them zero unless a QP followed it: nothing reads them after
+  // the step (fall_asleep.cpp reads the stencils' nodes).
+  const auto complete_jacobians = [&] {
+    if (!model.has_strain_limits) return;
+    StageTimer timer(profile, Stage::Rows);
+    complete_strain_limit_jacobians(model, s.rows, &sc.strain_row_buffers);
+  };
   const bool linearise_at_start = !s.warm_start.empty() && strays_beyond_margin(model, s.v_start, v_star);
   bool started_at_v0 = false;  // the first QP was linearised at v0 (stats)
   for (int k = 0;; ++k) {
@@ -429,6 +439,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       scatter_free(model, v_free, s.v);
       rows_at_iterate(k);
     }
+    complete_jacobians();  // this iterate's rows are linearised at
     const int m = s.rows.size();
     ++sqp;
     impulse_valid = false;
