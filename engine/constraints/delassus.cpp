@@ -105,6 +105,15 @@ void Delassus::build_column(int i) const {
   m_column_built[i] = 1;
 }
 
+void Delassus::add_row_entries(int i, const double* transposed, Eigen::Index stride, int count, double* out) const {
+  // stencil_dot's s += j . u for each stencil entry in turn, j . u = (j0 u0 + j1 u1) + j2 u2.
+  for (int e = m_begin[i]; e < m_begin[i + 1]; ++e) {
+    const double* u = transposed + 3 * static_cast<Eigen::Index>(m_local[e]) * stride;
+    const Vec3& j = m_jac[e];
+    add_scaled3(out, u, u + stride, u + 2 * stride, j[0], j[1], j[2], count);
+  }
+}
+
 const double* Delassus::column(int i) const {
   if (!m_column_built[i]) build_column(i);
   return T().col(i).data();

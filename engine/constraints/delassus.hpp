@@ -70,6 +70,13 @@ class Delassus {
     if (!m_dense && !m_column_built[i]) build_column(i);
   }
   double entry(int i, int j) const;
+  // Factored form: column i of T, built (ensure_column).
+  const double* built_column(int i) const { return T().col(i).data(); }
+  // out[b] += W_{i, j_b} for b < count, where column j_b of T is held transposed: entry b of
+  // row d of `transposed` (leading dimension `stride`) is T(d, j_b). The bits of entry(i,
+  // j_b) on out = +0: each stencil term added in entry's order, vectorised over b
+  // (lcp_active_set.cpp forms W_AA so, a row of it at a time).
+  void add_row_entries(int i, const double* transposed, Eigen::Index stride, int count, double* out) const;
   // out = W lambda (the stored or factored W; no m x m matrix is formed).
   void multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const;
   // The same on a subset of rows (solve_pgs's subspace steps): out_a = sum_b W(rows_a,

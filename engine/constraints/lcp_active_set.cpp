@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "engine/math/add_scaled.hpp"
+#include "engine/math/transpose_columns.hpp"
 
 namespace sinew {
 
@@ -69,20 +70,36 @@ void ActiveSetPgs::extend_block(const Delassus& W, int rows) {
   }
   double* data = m_block.data();
   const int first = m_formed;
-  // New columns of T first (each by one task), then W_AA's new columns against every earlier
-  // row, each entry summed by one task (the same bits for any thread count), then mirrored.
+  // New columns of T first (each by one task), then held transposed (row d of m_transposed
+  // holds T(d, A_b) at slot b), so that a row of W_AA is a few runs of 3-term updates over
+  // contiguous slots (add_row_entries) rather than an entry at a time, each a gather over the
+  // row's stencil from a column of T. Rows were formed (A grows) against the earlier slots;
+  // each row now gets its entries against the new slots beyond its own, each entry summed by
+  // one task in entry()'s order (the same bits for any thread count), then mirrored.
   tbb::parallel_for(tbb::blocked_range<int>(first, n, 8), [&](const tbb::blocked_range<int>& range) {
     for (int b = range.begin(); b < range.end(); ++b) W.ensure_column(m_active[b]);
   });
-  tbb::parallel_for(tbb::blocked_range<int>(first, n, 4), [&](const tbb::blocked_range<int>& range) {
-    for (int b = range.begin(); b < range.end(); ++b) {
-      double* col = data + static_cast<std::size_t>(b) * m_stride;
-      for (int a = 0; a < b; ++a) col[a] = W.entry(m_active[a], m_active[b]);
-      col[b] = W.diagonal(m_active[b]);  // as solve_pgs on W itself divides by it
+  const int k3 = W.touched_dofs();
+  double* transposed = m_transposed.view(rows, k3).data();  // rows >= n: A holds table rows
+  m_new_columns.resize(n);
+  for (int b = first; b < n; ++b) m_new_columns[b] = W.built_column(m_active[b]);
+  tbb::parallel_for(tbb::blocked_range<int>(first, n, 32), [&](const tbb::blocked_range<int>& range) {
+    transpose_columns(m_new_columns.data() + range.begin(), range.end() - range.begin(), k3,
+                      transposed + range.begin(), rows);
+  });
+  tbb::parallel_for(tbb::blocked_range<int>(0, n, 4), [&](const tbb::blocked_range<int>& range) {
+    for (int a = range.begin(); a < range.end(); ++a) {
+      const int from = std::max(first, a + 1);
+      if (from >= n) continue;
+      double* row = data + static_cast<std::size_t>(a) * m_stride;  // column a: entries (b, a) = (a, b)
+      std::fill(row + from, row + n, 0.0);
+      W.add_row_entries(m_active[a], transposed + from, rows, n - from, row + from);
     }
   });
-  for (int b = first; b < n; ++b)
-    for (int a = 0; a < b; ++a) data[static_cast<std::size_t>(a) * m_stride + b] = data[static_cast<std::size_t>(b) * m_stride + a];
+  for (int b = first; b < n; ++b) {
+    data[static_cast<std::size_t>(b) * m_stride + b] = W.diagonal(m_active[b]);  // as solve_pgs on W divides by it
+    for (int a = 0; a < b; ++a) data[static_cast<std::size_t>(b) * m_stride + a] = data[static_cast<std::size_t>(a) * m_stride + b];
+  }
   m_formed = n;
 }
 
@@ -98,6 +115,7 @@ PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, cons
   // Sized by the table, as the solver's other buffers: they grow only with it.
   for (std::vector<int>* v : {&m_active, &m_order, &m_slot, &m_reduced.normal_row, &m_friction_rows}) v->reserve(m);
   for (std::vector<double>* v : {&m_reduced.lo, &m_reduced.hi, &m_reduced.mu, &m_reduced.lambda}) v->reserve(m);
+  m_new_columns.reserve(m);
   m_vectors.view(m, 5);
   m_formed = 0;
   // Each normal row's friction rows, grouped by normal (counting sort).

@@ -88,6 +88,8 @@ class ActiveSetPgs {
   int m_rounds = 0;
   PgsRows m_reduced;
   ScratchMatrix m_block, m_vectors;
+  ScratchMatrix m_transposed;  // A's columns of T, transposed (extend_block)
+  std::vector<const double*> m_new_columns;  // extend_block: per slot, its column of T
 };
 
 }  // namespace sinew

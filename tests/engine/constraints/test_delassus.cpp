@@ -2,7 +2,10 @@
 // dense forms) or from one solve per row: all against W formed from a dense inverse.
 #include <doctest/doctest.h>
 
+#include <cmath>
+#include <cstring>
 #include <limits>
+#include <optional>
 
 #include <Eigen/Cholesky>
 #include <random>
@@ -10,6 +13,8 @@
 #include "engine/constraints/delassus.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
 #include "engine/constraints/touched_inverse.hpp"
+#include "engine/core/cpu_features.hpp"
+#include "engine/math/transpose_columns.hpp"
 #include "tests/engine/constraints/delassus_problem.hpp"
 
 using namespace sinew;
@@ -324,5 +329,50 @@ TEST_CASE("Delassus: rebuilt with the same G and rows it keeps W; a changed Jaco
     CHECK(W.matrix() == fresh(inverse));
     CHECK(W.matrix() != before);
     CHECK((W.matrix() - expected).norm() < 1e-12 * expected.norm());
+  }
+}
+
+TEST_CASE("factored Delassus: a row's entries against transposed columns of T are entry()'s bit for bit") {
+  std::mt19937 rng(21);
+  const Problem p = random_problem(9, 70, rng);  // rows of 1-4 nodes, some on the fixed node
+  const Eigen::LLT<MatX> llt(p.H);
+  std::vector<int> local_node;
+  const TouchedInverse inverse = touched_inverse(p, llt, local_node);
+  Delassus W;
+  W.build(p.rows, local_node, inverse);
+  REQUIRE(!W.dense());
+  const int m = p.rows.size(), k3 = W.touched_dofs();
+  // Every column of T, transposed (the active set's layout), in a scattered slot order.
+  std::vector<int> slot_row(m);
+  for (int b = 0; b < m; ++b) slot_row[b] = (b * 37) % m;
+  std::vector<const double*> columns(m);
+  for (int b = 0; b < m; ++b) {
+    W.ensure_column(slot_row[b]);
+    columns[b] = W.built_column(slot_row[b]);
+  }
+  const long stride = m + 3;  // wider than the slots, as the active set's is
+  // Both kernels' paths: AVX2 (where the CPU has it) and the baseline.
+  for (const bool baseline : {false, true}) {
+    CAPTURE(baseline);
+    std::optional<BaselineKernelsOnly> off;
+    if (baseline) off.emplace();
+    std::vector<double> transposed(static_cast<std::size_t>(k3) * stride, std::nan(""));
+    transpose_columns(columns.data(), m, k3, transposed.data(), stride);
+    for (int d = 0; d < k3; ++d)
+      for (int b = 0; b < m; ++b) REQUIRE(transposed[d * stride + b] == columns[b][d]);
+    int differing = 0;
+    for (int i = 0; i < m; ++i) {
+      std::vector<double> row(m, 0.0);
+      W.add_row_entries(i, transposed.data(), stride, m, row.data());
+      for (int b = 0; b < m; ++b) {
+        const double expected = W.entry(i, slot_row[b]);
+        differing += std::memcmp(&row[b], &expected, sizeof expected) != 0;
+      }
+    }
+    CHECK(differing == 0);
+    // From a slot offset, as extend_block asks for the new slots only.
+    std::vector<double> tail(m - 5, 0.0);
+    W.add_row_entries(4, transposed.data() + 5, stride, m - 5, tail.data());
+    for (int b = 5; b < m; ++b) CHECK(tail[b - 5] == W.entry(4, slot_row[b]));
   }
 }
