@@ -222,8 +222,7 @@ void Delassus::start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<cons
 void Delassus::factored_product(const Eigen::Ref<const VecX>& lambda, Eigen::Map<VecX>& u) const {
   // Over the columns with a multiplier only: the others may not be built.
   u.setZero();
-  for (int i = 0; i < size(); ++i)
-    if (lambda[i] != 0) add_scaled(u.data(), column(i), lambda[i], m_k3);
+  add_scaled_nonzero(u.data(), m_k3, size(), lambda.data(), [&](int i) { return column(i); });
 }
 
 }  // namespace sinew

@@ -23,8 +23,7 @@ constexpr int kMinActiveSweeps = 4;
 
 void ActiveSetPgs::Block::start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c) {
   for (int p = 0; p < m_size; ++p) m_w[m_slot[p]] = c[p];
-  for (int p = 0; p < m_size; ++p)
-    if (lambda[p] != 0) add_scaled(m_w, column(p), lambda[p], m_size);
+  add_scaled_nonzero(m_w, m_size, m_size, lambda.data(), [&](int p) { return column(p); });
 }
 
 void ActiveSetPgs::Block::changed(int p, double delta) { add_scaled(m_w, column(p), delta, m_size); }

@@ -17,6 +17,20 @@ __attribute__((target("avx2"))) void add_scaled_avx2(double* y, const double* x,
   for (; i < n; ++i) y[i] += x[i] * a;
 }
 
+// y += x0 a0, then += x1 a1, += x2 a2, += x3 a3: four add_scaled in one pass over y.
+__attribute__((target("avx2"))) void add_scaled4_avx2(double* y, const double* const* x, const double* a, int n) {
+  const __m256d s0 = _mm256_set1_pd(a[0]), s1 = _mm256_set1_pd(a[1]), s2 = _mm256_set1_pd(a[2]),
+                s3 = _mm256_set1_pd(a[3]);
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    __m256d sum = _mm256_add_pd(_mm256_loadu_pd(y + i), _mm256_mul_pd(_mm256_loadu_pd(x[0] + i), s0));
+    sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_loadu_pd(x[1] + i), s1));
+    sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_loadu_pd(x[2] + i), s2));
+    _mm256_storeu_pd(y + i, _mm256_add_pd(sum, _mm256_mul_pd(_mm256_loadu_pd(x[3] + i), s3)));
+  }
+  for (; i < n; ++i) y[i] = (((y[i] + x[0][i] * a[0]) + x[1][i] * a[1]) + x[2][i] * a[2]) + x[3][i] * a[3];
+}
+
 // Accumulate: y += the sum; else y = the sum (no read of y: a column built from nothing).
 template <bool Accumulate>
 __attribute__((target("avx2"))) void scaled3_avx2(double* y, const double* x0, const double* x1, const double* x2,
@@ -58,6 +72,15 @@ void add_scaled3(double* y, const double* x0, const double* x1, const double* x2
 void set_scaled3(double* y, const double* x0, const double* x1, const double* x2, double a0, double a1, double a2,
                  int n) {
   scaled3<false>(y, x0, x1, x2, a0, a1, a2, n);
+}
+
+void add_scaled4(double* y, const double* const* x, const double* a, int n) {
+  if (use_avx2()) {
+    add_scaled4_avx2(y, x, a, n);
+    return;
+  }
+  // Eigen's loop per column, as four add_scaled calls would run.
+  for (int k = 0; k < 4; ++k) Eigen::Map<VecX>(y, n).noalias() += Eigen::Map<const VecX>(x[k], n) * a[k];
 }
 
 void add_scaled(double* y, const double* x, double a, int n) {

@@ -7,6 +7,25 @@ namespace sinew {
 
 void add_scaled(double* y, const double* x, double a, int n);
 
+// add_scaled(y, x[k], a[k], n) for k = 0..3 in turn, in one pass over y (the same bits:
+// y's entries see the same adds in the same order): PGS's products T lambda (delassus.cpp).
+void add_scaled4(double* y, const double* const* x, const double* a, int n);
+
+// y += column(i) a[i] over i < count with a[i] != 0, in i's order, four columns a pass: the
+// bits of add_scaled on each in turn.
+template <typename Column>
+void add_scaled_nonzero(double* y, int n, int count, const double* a, Column column) {
+  const double* held_columns[4];
+  double held_scales[4];
+  int held = 0;
+  for (int i = 0; i < count; ++i) {
+    if (a[i] == 0) continue;
+    held_columns[held] = column(i), held_scales[held] = a[i];
+    if (++held == 4) add_scaled4(y, held_columns, held_scales, n), held = 0;
+  }
+  for (int k = 0; k < held; ++k) add_scaled(y, held_columns[k], held_scales[k], n);
+}
+
 // y += (x0 a0 + x1 a1) + x2 a2 over n doubles, in that order, each product rounded on its
 // own: the bits of Eigen's `y += x0 * a0 + x1 * a1 + x2 * a2` on the build's baseline.
 // Delassus columns (T = G J^T, one node's three columns of G per stencil entry).

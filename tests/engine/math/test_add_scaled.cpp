@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -95,4 +96,35 @@ TEST_CASE("add_scaled3 and set_scaled3: the bits of y[i] + ((x0[i] a0 + x1[i] a1
   // entries compared, at least one in twenty would differ.
   MESSAGE(fused_would_differ << " entries would differ fused");
   CHECK(fused_would_differ > 300);
+}
+
+TEST_CASE("add_scaled4 and add_scaled_nonzero: the bits of add_scaled on each column in turn, on both paths") {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> value(-1.0, 1.0);
+  for (const bool avx2 : {true, false}) {
+    std::optional<BaselineKernelsOnly> baseline;
+    if (!avx2) baseline.emplace();
+    for (int n = 0; n <= 23; ++n) {
+      CAPTURE(avx2);
+      CAPTURE(n);
+      // 11 columns, some with a zero scale (left out), so that a last partial group remains.
+      std::vector<std::vector<double>> x(11, std::vector<double>(n));
+      std::vector<double> a(11), y(n);
+      for (auto& column : x)
+        for (double& v : column) v = value(rng);
+      for (double& v : y) v = value(rng);
+      for (int k = 0; k < 11; ++k) a[k] = k % 4 == 1 ? 0.0 : value(rng) * 1e3;
+      std::vector<double> expected = y, got = y, four = y;
+      for (int k = 0; k < 11; ++k)
+        if (a[k] != 0) add_scaled(expected.data(), x[k].data(), a[k], n);
+      add_scaled_nonzero(got.data(), n, 11, a.data(), [&](int k) { return x[k].data(); });
+      CHECK((n == 0 || std::memcmp(got.data(), expected.data(), sizeof(double) * n) == 0));
+      // add_scaled4 alone on the first four columns.
+      std::vector<double> one_by_one = y;
+      const double* columns[4] = {x[0].data(), x[1].data(), x[2].data(), x[3].data()};
+      for (int k = 0; k < 4; ++k) add_scaled(one_by_one.data(), columns[k], a[k], n);
+      add_scaled4(four.data(), columns, a.data(), n);
+      CHECK((n == 0 || std::memcmp(four.data(), one_by_one.data(), sizeof(double) * n) == 0));
+    }
+  }
 }
