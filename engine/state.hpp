@@ -66,9 +66,9 @@ struct State {
                                      // corotational scenes only)
   VecX v_free;                       // 3 * free: unconstrained v* (solve)
   VecX v_start;                      // 3 * free: velocities at the start of the step (solve, Newton)
-  RowTable rows;                     // constraint rows at the step's last SQP iterate (constraints); its
-                                     // strain rows' Jacobians are zero unless a QP was linearised there
-                                     // (complete_strain_limit_jacobians with strain_row_buffers sets them)
+  RowTable rows;                     // constraint rows at the step's last SQP iterate (constraints); after
+                                     // a step its strain rows' Jacobians are zero (no QP followed that
+                                     // build; complete_strain_limit_jacobians with strain_row_buffers sets them)
   EnergyScreen energy_screen;        // energy limits: each element's last exact evaluation (skips far ones)
   std::vector<std::pair<uint64_t, double>> warm_start;  // sorted row key -> lambda (constraints)
   VecX constraint_impulse;           // 3 * nodes: J^T lambda of the last step's last QP (constraints),

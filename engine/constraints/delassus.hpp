@@ -72,10 +72,10 @@ class Delassus {
   double entry(int i, int j) const;
   // Factored form: column i of T, built (ensure_column).
   const double* built_column(int i) const { return T().col(i).data(); }
-  // out[b] += W_{i, j_b} for b < count, where column j_b of T is held transposed: entry b of
-  // row d of `transposed` (leading dimension `stride`) is T(d, j_b). The bits of entry(i,
-  // j_b) on out = +0: each stencil term added in entry's order, vectorised over b
-  // (lcp_active_set.cpp forms W_AA so, a row of it at a time).
+  // Adds row i's stencil terms of W_{i, j_b} to out[b], b < count, one term at a time in
+  // entry()'s order, where column j_b of T is held transposed: entry b of row d of
+  // `transposed` (leading dimension `stride`) is T(d, j_b). On out = +0 the result is entry(i,
+  // j_b) bit for bit (lcp_active_set.cpp forms W_AA so, a row of it at a time).
   void add_row_entries(int i, const double* transposed, Eigen::Index stride, int count, double* out) const;
   // out = W lambda (the stored or factored W; no m x m matrix is formed).
   void multiply(const Eigen::Ref<const VecX>& lambda, Eigen::Ref<VecX> out) const;

@@ -79,12 +79,14 @@ void ActiveSetPgs::extend_block(const Delassus& W, int rows) {
     for (int b = range.begin(); b < range.end(); ++b) W.ensure_column(m_active[b]);
   });
   const int k3 = W.touched_dofs();
-  double* transposed = m_transposed.view(rows, k3).data();  // rows >= n: A holds table rows
+  // Slots up to n <= min(rows, k3): A holds table rows, and solve() falls back to T beyond k3.
+  const int slots = std::min(rows, k3);
+  double* transposed = m_transposed.view(slots, k3).data();
   m_new_columns.resize(n);
   for (int b = first; b < n; ++b) m_new_columns[b] = W.built_column(m_active[b]);
   tbb::parallel_for(tbb::blocked_range<int>(first, n, 32), [&](const tbb::blocked_range<int>& range) {
     transpose_columns(m_new_columns.data() + range.begin(), range.end() - range.begin(), k3,
-                      transposed + range.begin(), rows);
+                      transposed + range.begin(), slots);
   });
   tbb::parallel_for(tbb::blocked_range<int>(0, n, 4), [&](const tbb::blocked_range<int>& range) {
     for (int a = range.begin(); a < range.end(); ++a) {
@@ -92,12 +94,13 @@ void ActiveSetPgs::extend_block(const Delassus& W, int rows) {
       if (from >= n) continue;
       double* row = data + static_cast<std::size_t>(a) * m_stride;  // column a: entries (b, a) = (a, b)
       std::fill(row + from, row + n, 0.0);
-      W.add_row_entries(m_active[a], transposed + from, rows, n - from, row + from);
+      W.add_row_entries(m_active[a], transposed + from, slots, n - from, row + from);
     }
   });
   for (int b = first; b < n; ++b) {
-    data[static_cast<std::size_t>(b) * m_stride + b] = W.diagonal(m_active[b]);  // as solve_pgs on W divides by it
-    for (int a = 0; a < b; ++a) data[static_cast<std::size_t>(b) * m_stride + a] = data[static_cast<std::size_t>(a) * m_stride + b];
+    double* column = data + static_cast<std::size_t>(b) * m_stride;
+    column[b] = W.diagonal(m_active[b]);  // as solve_pgs on W divides by it
+    for (int a = 0; a < b; ++a) column[a] = data[static_cast<std::size_t>(a) * m_stride + b];
   }
   m_formed = n;
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstring>
 #include <limits>
 
 #include "engine/assembly/element_kernels.hpp"
@@ -103,6 +104,8 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,
                              KeptStorage<StrainRowBuffers>* storage, StrainJacobians jacobians) {
   if (!model.has_strain_limits) return -1;
+  // Deferred: the completion must find this build's buffers, whichever thread it runs on.
+  assert(jacobians == StrainJacobians::Now || storage);
   StrainRowBuffers& buffers = kept_or_thread_local(storage);
   buffers.deferred_first_row = -1;
   const std::vector<RotationVariantSvd>& svds = buffers.svds;
@@ -177,7 +180,8 @@ void complete_strain_limit_jacobians(const Model& model, RowTable& rows, KeptSto
     for (int r = 0; r < found[i].count; ++r, ++r_index) {
       const StrainLimitRow& row = found[i].row[r];
       assert(r_index < rows.size() && rows.kind[r_index] == RowKind::Strain &&
-             rows.key[r_index] == row_key(RowKind::Strain, candidates[i], row.index) && rows.value[r_index] == row.value);
+             rows.key[r_index] == row_key(RowKind::Strain, candidates[i], row.index) &&
+             std::memcmp(&rows.value[r_index], &row.value, sizeof row.value) == 0);  // NaN too
       for (int a = 0; a < 4; ++a) rows.jac[rows.begin[r_index] + a] = row.jac.segment<3>(3 * a);
     }
   buffers.deferred_first_row = -1;

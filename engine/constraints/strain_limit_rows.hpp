@@ -17,17 +17,18 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
 // all limited tets (-1 when none). Their curvature blocks come later, once PGS has said
 // which rows carry force (below).
 // `storage`: buffers kept from call to call (kept_storage.hpp); without, this thread's.
-// Deferred: the rows' Jacobians are left zero until complete_strain_limit_jacobians (a
-// line-search trial needs the values alone, and most trials are not linearised at).
+// Deferred (with a `storage`): the rows' Jacobians are left zero until
+// complete_strain_limit_jacobians (a line-search trial needs the values alone, and most
+// trials are not linearised at).
 enum class StrainJacobians { Now, Deferred };
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,
                              KeptStorage<StrainRowBuffers>* storage = nullptr,
                              StrainJacobians jacobians = StrainJacobians::Now);
 
-// Sets the Jacobians the last deferred add_strain_limit_rows with this storage left zero
-// (from that build's SVDs: the rows must be that build's, and `rows` may have gained rows
-// after them); nothing when none are pending.
+// Sets the Jacobians that the last add_strain_limit_rows with this storage left zero, if it
+// was deferred (from that build's SVDs: `rows` must hold that build's rows where it put
+// them, and may have gained rows after them); nothing when none are pending.
 void complete_strain_limit_jacobians(const Model& model, RowTable& rows,
                                      KeptStorage<StrainRowBuffers>* storage = nullptr);
 

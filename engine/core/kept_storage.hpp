@@ -14,7 +14,9 @@ template <typename T>
 class KeptStorage {
  public:
   KeptStorage() = default;
-  // A copy starts empty: the buffers hold nothing a later call reads.
+  // A copy starts empty: the buffers hold nothing a later call reads, except a deferred
+  // strain build's SVDs, which its completion reads in the same SQP iteration (no copy of
+  // the State comes in between; strain_limit_rows.hpp).
   KeptStorage(const KeptStorage&) {}
   KeptStorage& operator=(const KeptStorage&) { return *this; }
   KeptStorage(KeptStorage&&) noexcept = default;

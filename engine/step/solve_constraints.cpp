@@ -21,8 +21,8 @@ namespace {
 // Builds every kind's rows at the iterate (positions x = x0 + h v, velocities v, obstacles
 // at t_end, the end of the step); returns the worst violation relative to each kind's
 // tolerance (<= 1 means converged). The strain rows' Jacobians are deferred: the caller
-// completes them (complete_strain_limit_jacobians) before it uses them. A new kind of constraint adds a line here, not a
-// branch in the solver.
+// completes them (complete_strain_limit_jacobians) before it uses them. A new kind of
+// constraint adds a line here, not a branch in the solver.
 // Contact: on the first iteration (k = 0) any predicted penetration counts as a violation,
 // so the LCP is solved on every step a contact closes: friction rows have no violation of
 // their own, and waiting for the penetration to exceed the tolerance would let bodies slide
@@ -338,8 +338,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // better guess (the resting creature: one SQP iteration fewer from x*).
   // The strain rows' Jacobians, left out of every build: of the flat finger's 3-7 builds a
   // step, only those the SQP linearises at (one per QP) need them. The step's last build (its
-  // rows stay in s.rows) keeps them zero unless a QP followed it: nothing reads them after
-  // the step (fall_asleep.cpp reads the stencils' nodes).
+  // rows stay in s.rows) is a line-search trial or the iterate the step ends at, so s.rows
+  // keeps zero strain Jacobians after a step (no QP followed): nothing reads them then
+  // (fall_asleep.cpp reads the stencils' nodes).
   const auto complete_jacobians = [&] {
     if (!model.has_strain_limits) return;
     StageTimer timer(profile, Stage::Rows);

@@ -57,7 +57,8 @@ TEST_CASE("strain rows: deferred Jacobians, completed, equal the immediate build
   RowTable deferred;
   deferred.add_row(RowKind::Contact, 0.25, 0, 1e300, 1);  // a row before the strain rows
   deferred.add_entry(0, Vec3(1, 2, 3));
-  const double worst_deferred = add_strain_limit_rows(model, x, margin, keep, deferred, &storage, StrainJacobians::Deferred);
+  const double worst_deferred =
+      add_strain_limit_rows(model, x, margin, keep, deferred, &storage, StrainJacobians::Deferred);
   CHECK(same_bits(worst_now, worst_deferred));
   REQUIRE(deferred.size() == now.size() + 1);
   for (int k = deferred.begin[1]; k < deferred.begin[deferred.size()]; ++k) REQUIRE(deferred.jac[k] == Vec3::Zero());

@@ -113,7 +113,7 @@ TEST_CASE("add_scaled4 and add_scaled_nonzero: the bits of add_scaled on each co
       for (auto& column : x)
         for (double& v : column) v = value(rng);
       for (double& v : y) v = value(rng);
-      for (int k = 0; k < 11; ++k) a[k] = k % 4 == 1 ? 0.0 : value(rng) * 1e3;
+      for (int k = 0; k < 11; ++k) a[k] = k % 4 == 1 || k == 10 ? 0.0 : value(rng) * 1e3;  // 7 non-zero
       std::vector<double> expected = y, got = y, four = y;
       for (int k = 0; k < 11; ++k)
         if (a[k] != 0) add_scaled(expected.data(), x[k].data(), a[k], n);
