@@ -46,6 +46,12 @@ class ActiveSetPgs {
   int active_rows() const { return static_cast<int>(m_active.size()); }
   bool in_active(int i) const { return i < static_cast<int>(m_position.size()) && m_position[i] >= 0; }
   int rounds() const { return m_rounds; }
+  // W_AA's stored entry for rows i and j of A (tests): W_ij as entry() forms it for the row
+  // that joined A first, or W_ii.
+  bool joined_before(int i, int j) const { return m_position[i] < m_position[j]; }
+  double formed_entry(int i, int j) {
+    return m_block.data()[static_cast<std::size_t>(m_position[j]) * m_stride + m_position[i]];
+  }
 
   // W_AA as a solve_pgs operator over A's positions p (the rows' order), whose entries sit in
   // W_AA's slot slot[p] (the order they joined in): dense, column-major with leading

@@ -108,6 +108,21 @@ TEST_CASE("active-set PGS: one instance reused across sizes, A growing over roun
     CHECK(result.residual <= tolerance);
     CHECK(lcp_residual(W.matrix(), lcp.c, rows, &lcp.weight) <= 1.01 * tolerance);
     grew += active.rounds() > 1;
+    // W_AA as formed over the rounds (rows joining, its stride growing from the last solve's):
+    // every entry entry()'s bits for the row that joined first, both halves, W_ii on the
+    // diagonal.
+    if (active.rounds() == 0) continue;
+    std::vector<int> in_a;
+    for (int i = 0; i < m; ++i)
+      if (active.in_active(i)) in_a.push_back(i);
+    int differing = 0;
+    for (const int i : in_a)
+      for (const int j : in_a) {
+        const double got = active.formed_entry(i, j);
+        const double expected = i == j ? W.diagonal(i) : active.joined_before(i, j) ? W.entry(i, j) : W.entry(j, i);
+        differing += std::memcmp(&got, &expected, sizeof got) != 0;
+      }
+    CHECK(differing == 0);
   }
   MESSAGE(grew << " of 5 solves added rows to A after its first round");
   CHECK(grew >= 1);
