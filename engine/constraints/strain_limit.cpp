@@ -40,7 +40,7 @@ struct Terms {
   uint32_t keep = ~0u;
   int count = 0;
   std::array<Term, kStrainLimitCount> term;
-  bool wanted(int k, double C) const { return derivatives && (C < margin || (keep >> k & 1u)); }
+  bool wanted(int k, double C) const { return derivatives && strain_row_wanted(k, C, margin, keep); }
   // A constraint of s_i and row i of c only: P = p e_i, Q row i = q.
   void add(int k, int i, double C, double p, const Vec3& q) {
     Term& t = term[count++];
@@ -278,11 +278,13 @@ double worst_strain_violation(const StrainLimitSpec& spec, const Mat3& F) {
 }
 
 double worst_strain_violation(const StrainLimitSpec& spec, const RotationVariantSvd& svd) {
-  Terms terms;
-  terms.derivatives = false;
-  collect_terms(spec, svd, terms);
+  return worst_strain_violation(compute_strain_limit_values(spec, svd));
+}
+
+double worst_strain_violation(const StrainLimitValues& values) {
   double worst = -kInf;
-  for (int t = 0; t < terms.count; ++t) worst = std::max(worst, -terms.term[t].C);
+  for (int k = 0; k < kStrainLimitCount; ++k)
+    if (values.present >> k & 1u) worst = std::max(worst, -values.C[k]);
   return worst;
 }
 

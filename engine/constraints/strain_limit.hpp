@@ -115,6 +115,12 @@ struct StrainLimitValues {
 StrainLimitValues compute_strain_limit_values(const StrainLimitSpec& spec,
                                               const RotationVariantSvd& svd);
 
+// Whether constraint k with value C becomes a row: C below the margin, or bit k of `keep`
+// set (it carried force earlier in the step).
+inline bool strain_row_wanted(int k, double C, double margin, uint32_t keep) {
+  return C < margin || (keep >> k & 1u);
+}
+
 // The tightest limits on each principal stretch s_i implied by the constraints
 // (-inf / +inf where none): all C >= 0 exactly when smin(i) <= s_i <= smax(i).
 struct ProjectedStrainLimits {
@@ -156,5 +162,7 @@ void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVaria
 // constraint). No gradients.
 double worst_strain_violation(const StrainLimitSpec& spec, const Mat3& F);
 double worst_strain_violation(const StrainLimitSpec& spec, const RotationVariantSvd& svd);
+// The same from the tet's values.
+double worst_strain_violation(const StrainLimitValues& values);
 
 }  // namespace sinew

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cstring>
-#include <limits>
 
 #include "engine/assembly/element_kernels.hpp"
 #include "engine/constraints/strain_limit_curvature.hpp"
@@ -70,10 +69,7 @@ const std::vector<double>& worst_per_element(const Model& model, const VecX& x, 
     const StrainLimitSpec spec = tet_spec(model, e);
     const RotationVariantSvd svd = compute_rotation_variant_svd(tet_deformation_gradient(model, x, e));
     const StrainLimitValues values = compute_strain_limit_values(spec, svd);
-    double w = -std::numeric_limits<double>::infinity();  // as worst_strain_violation
-    for (int k = 0; k < kStrainLimitCount; ++k)
-      if (values.present >> k & 1u) w = std::max(w, -values.C[k]);
-    worst[e] = w;
+    worst[e] = worst_strain_violation(values);
     if (buffers) buffers->svds[e] = svd, buffers->values[e] = values;
   });
   return worst;
@@ -84,7 +80,7 @@ const std::vector<double>& worst_per_element(const Model& model, const VecX& x, 
 void rows_without_jacobians(const StrainLimitValues& values, double margin, uint32_t keep, StrainLimitRows& out) {
   out.count = 0;
   for (int k = 0; k < kStrainLimitCount; ++k)
-    if ((values.present >> k & 1u) && (values.C[k] < margin || (keep >> k & 1u))) {
+    if ((values.present >> k & 1u) && strain_row_wanted(k, values.C[k], margin, keep)) {
       StrainLimitRow& row = out.row[out.count++];
       row.index = k;
       row.value = values.C[k];

@@ -79,8 +79,7 @@ void add_scaled4(double* y, const double* const* x, const double* a, int n) {
     add_scaled4_avx2(y, x, a, n);
     return;
   }
-  // Eigen's loop per column, as four add_scaled calls would run.
-  for (int k = 0; k < 4; ++k) Eigen::Map<VecX>(y, n).noalias() += Eigen::Map<const VecX>(x[k], n) * a[k];
+  for (int k = 0; k < 4; ++k) add_scaled(y, x[k], a[k], n);  // the baseline path, column by column
 }
 
 void add_scaled(double* y, const double* x, double a, int n) {

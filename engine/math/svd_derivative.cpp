@@ -7,15 +7,23 @@ namespace sinew {
 
 namespace {
 
-// The pair (k, l)'s 2x2 system (header: its solution and clamp): a = Omega_U(k, l) and
-// b = Omega_V(k, l) from A_kl and A_lk.
+// The pair (k, l)'s 2x2 system (header: its solution and clamp): its clamped denominators,
+// then a = Omega_U(k, l) and b = Omega_V(k, l) from A_kl and A_lk.
+struct PairDenominators {
+  double diff, sum;
+};
+PairDenominators pair_denominators(const Vec3& S, int k, int l, double eps) {
+  return {std::min(S(l) - S(k), -eps), std::max(S(l) + S(k), eps)};
+}
+double pair_omega_V(const PairDenominators& den, double A_kl, double A_lk) {
+  return 0.5 * (A_kl + A_lk) / den.diff - 0.5 * (A_kl - A_lk) / den.sum;
+}
 void solve_pair(const Vec3& S, int k, int l, double A_kl, double A_lk, double eps, double& a, double& b) {
-  const double diff = std::min(S(l) - S(k), -eps);
-  const double sum = std::max(S(l) + S(k), eps);
+  const PairDenominators den = pair_denominators(S, k, l, eps);
   const double sym = 0.5 * (A_kl + A_lk);
   const double skew = 0.5 * (A_kl - A_lk);
-  a = sym / diff + skew / sum;
-  b = sym / diff - skew / sum;
+  a = sym / den.diff + skew / den.sum;
+  b = pair_omega_V(den, A_kl, A_lk);
 }
 
 // Omega_U, Omega_V from A = U^T dF V, pair by pair.
@@ -72,20 +80,14 @@ SvdRotationDerivative compute_svd_rotation_derivative(const RotationVariantSvd& 
   constexpr int kPairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   // Each pair's clamped denominators once, not per entry; only b = Omega_V(k, l) is wanted,
   // by solve_pair's own operations (the same bits, half its divisions).
-  double diff[3], sum[3];
-  for (int p = 0; p < 3; ++p) {
-    const int k = kPairs[p][0], l = kPairs[p][1];
-    diff[p] = std::min(svd.S(l) - svd.S(k), -eps);
-    sum[p] = std::max(svd.S(l) + svd.S(k), eps);
-  }
+  PairDenominators den[3];
+  for (int p = 0; p < 3; ++p) den[p] = pair_denominators(svd.S, kPairs[p][0], kPairs[p][1], eps);
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
       for (int p = 0; p < 3; ++p) {
         // The pair's b, with A = (row r of U)^T (row c of V).
         const int k = kPairs[p][0], l = kPairs[p][1];
-        const double A_kl = svd.U(r, k) * svd.V(c, l), A_lk = svd.U(r, l) * svd.V(c, k);
-        const double sym = 0.5 * (A_kl + A_lk), skew = 0.5 * (A_kl - A_lk);
-        d.omega_V[r][c](p) = sym / diff[p] - skew / sum[p];
+        d.omega_V[r][c](p) = pair_omega_V(den[p], svd.U(r, k) * svd.V(c, l), svd.U(r, l) * svd.V(c, k));
       }
   return d;
 }
