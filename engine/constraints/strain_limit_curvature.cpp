@@ -1,6 +1,7 @@
 #include "engine/constraints/strain_limit_curvature.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -70,13 +71,22 @@ void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F_given, con
   const Mat43 unused = Mat43::Zero();  // only dC/dF is read
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   for (int r = 0; r < rows.count; ++r) hessians[r].setZero();
-  StrainLimitRows base;  // margin -inf: exactly the wanted rows, whatever their values
-  evaluate_strain_limit(spec, F, unused, -kInfinity, wanted, base);
+  // F and its 9 probes, their SVDs in one batch (compute_rotation_variant_svds: the bits of
+  // one at a time).
+  std::array<Mat3, 10> probes;
+  std::array<RotationVariantSvd, 10> svds;
+  probes[0] = F;
   for (int e = 0; e < 9; ++e) {
     Mat3 dF = Mat3::Zero();
     dF(e % 3, e / 3) = kCurvatureStep;
+    probes[e + 1] = F + dF;
+  }
+  compute_rotation_variant_svds(probes.data(), svds.data(), 10);
+  StrainLimitRows base;  // margin -inf: exactly the wanted rows, whatever their values
+  evaluate_strain_limit(spec, svds[0], unused, -kInfinity, wanted, base);
+  for (int e = 0; e < 9; ++e) {
     StrainLimitRows plus;
-    evaluate_strain_limit(spec, F + dF, unused, -kInfinity, wanted, plus);
+    evaluate_strain_limit(spec, svds[e + 1], unused, -kInfinity, wanted, plus);
     // A row may vanish at a perturbed F (a_ij crossing 1e-12): its column stays 0.
     for (int r = 0, p = 0, b = 0; r < rows.count; ++r) {
       const int k = rows.row[r].index;

@@ -19,5 +19,8 @@ struct RotationVariantSvd {
 };
 
 RotationVariantSvd compute_rotation_variant_svd(const Mat3& F);
+// out[k] = compute_rotation_variant_svd(F[k]) for k < count, bit for bit, four at a time on
+// AVX2 (where one SVD's chain of roots and divisions would leave the vector units idle).
+void compute_rotation_variant_svds(const Mat3* F, RotationVariantSvd* out, int count);
 
 }  // namespace sinew
