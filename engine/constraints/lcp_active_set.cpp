@@ -30,14 +30,12 @@ void ActiveSetPgs::Block::changed(int p, double delta) { add_scaled(m_w, column(
 
 void ActiveSetPgs::Block::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x,
                                         Eigen::Ref<VecX> out) const {
-  // Most of A is free in a subspace step: x scattered over A's slots, one product with the
-  // whole block (contiguous columns, vectorised), the free rows' entries gathered.
-  Eigen::Map<VecX> spread(m_spread, m_size), product(m_product, m_size);
-  spread.setZero();
+  // The free rows' columns of W_AA (contiguous), four a pass, into a product over all of
+  // A's slots; the free rows' entries gathered. |F| columns, not |A|.
+  Eigen::Map<VecX> product(m_product, m_size);
+  product.setZero();
   const int n = static_cast<int>(rows.size());
-  for (int b = 0; b < n; ++b) spread[m_slot[rows[b]]] = x[b];
-  const Eigen::Map<const MatX, 0, Eigen::OuterStride<>> W(m_W, m_size, m_size, Eigen::OuterStride<>(m_stride));
-  product.noalias() = W * spread;
+  add_scaled_nonzero(m_product, m_size, n, x.data(), [&](int b) { return column(rows[b]); });
   for (int a = 0; a < n; ++a) out[a] = product[m_slot[rows[a]]];
 }
 
@@ -118,7 +116,7 @@ PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, cons
   for (std::vector<int>* v : {&m_active, &m_order, &m_slot, &m_reduced.normal_row, &m_friction_rows}) v->reserve(m);
   for (std::vector<double>* v : {&m_reduced.lo, &m_reduced.hi, &m_reduced.mu, &m_reduced.lambda}) v->reserve(m);
   m_new_columns.reserve(m);
-  m_vectors.view(m, 5);
+  m_vectors.view(m, 4);
   m_formed = 0;
   // Each normal row's friction rows, grouped by normal (counting sort).
   m_friction_begin.assign(m + 1, 0);
@@ -191,7 +189,7 @@ PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, cons
     for (int p = 0; p < n; ++p) m_slot[p] = m_position[m_order[p]], m_sorted[m_order[p]] = p;
     m_reduced.lo.resize(n), m_reduced.hi.resize(n), m_reduced.mu.resize(n), m_reduced.lambda.resize(n);
     m_reduced.normal_row.resize(n);
-    Eigen::Map<MatX> vectors = m_vectors.view(n, 5);
+    Eigen::Map<MatX> vectors = m_vectors.view(n, 4);
     auto c_a = vectors.col(0), weight_a = vectors.col(1), w = vectors.col(2);
     for (int p = 0; p < n; ++p) {
       const int i = m_order[p];
@@ -200,7 +198,7 @@ PgsResult ActiveSetPgs::solve(Delassus& W, const Eigen::Ref<const VecX>& c, cons
       m_reduced.normal_row[p] = rows.normal_row[i] >= 0 ? m_sorted[rows.normal_row[i]] : -1;
       c_a[p] = c[i], weight_a[p] = weight[i];
     }
-    Block block(m_block.data(), n, m_stride, m_slot.data(), w.data(), vectors.col(3).data(), vectors.col(4).data());
+    Block block(m_block.data(), n, m_stride, m_slot.data(), w.data(), vectors.col(3).data());
     const PgsResult inner = solve_pgs(block, c_a, weight_a, m_reduced,
                                       std::min(max_iterations - result.iterations, kRoundSweeps), tolerance,
                                       subspace_interval);

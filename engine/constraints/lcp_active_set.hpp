@@ -55,12 +55,12 @@ class ActiveSetPgs {
 
   // W_AA as a solve_pgs operator over A's positions p (the rows' order), whose entries sit in
   // W_AA's slot slot[p] (the order they joined in): dense, column-major with leading
-  // dimension `stride`. w (W_AA lambda + c), spread and product (multiply_rows' scratch) are
+  // dimension `stride`. w (W_AA lambda + c) and product (multiply_rows' scratch) are
   // `size` values each, w by slot.
   class Block {
    public:
-    Block(const double* W, int size, int stride, const int* slot, double* w, double* spread, double* product)
-        : m_W(W), m_size(size), m_stride(stride), m_slot(slot), m_w(w), m_spread(spread), m_product(product) {}
+    Block(const double* W, int size, int stride, const int* slot, double* w, double* product)
+        : m_W(W), m_size(size), m_stride(stride), m_slot(slot), m_w(w), m_product(product) {}
     double diagonal(int p) const { return column(p)[m_slot[p]]; }
     void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c);
     double w(int p) const { return m_w[m_slot[p]]; }
@@ -73,7 +73,6 @@ class ActiveSetPgs {
     int m_size, m_stride;
     const int* m_slot;
     double* m_w;
-    double* m_spread;
     double* m_product;
   };
 
