@@ -67,21 +67,36 @@ struct Terms {
 double blend_weight(double t) { return t >= 1 ? 0.0 : 1 - t * t * (3 - 2 * t); }
 double blend_weight_slope(double t) { return t >= 1 ? 0.0 : -6 * t * (1 - t); }
 
+// c(i, j) = v_i . m_j.
+Mat3 axis_cosines(const StrainLimitSpec& spec, const RotationVariantSvd& svd) { return svd.V.transpose() * spec.frame; }
+
+// Principal axis i's blend weights w(l) = w_il (w(i) = 0) and the blended cosine
+// a_ij = sqrt(c_ij^2 + sum_l w_il c_lj^2) (header).
+Vec3 blend_weights(const Vec3& s, int i) {
+  Vec3 w = Vec3::Zero();
+  for (int l = 0; l < 3; ++l)
+    if (l != i) w(l) = blend_weight(std::abs(s(i) - s(l)) / kStrainLimitBlendGap);
+  return w;
+}
+double blended_cosine(const Mat3& c, const Vec3& w, int i, int j) {
+  double a2 = c(i, j) * c(i, j);
+  for (int l = 0; l < 3; ++l) a2 += w(l) * c(l, j) * c(l, j);
+  return std::sqrt(a2);
+}
+
 // Hyperbolic constraints with the blended cosine (header): a_ij^2 = c_ij^2 + sum_l w_il c_lj^2.
 void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat3& c, Terms& out) {
   const Vec3& s = svd.S;
   for (int i = 0; i < 3; ++i) {
-    Vec3 w = Vec3::Zero(), dw_ds = Vec3::Zero();  // dw_il / ds_i (= -dw_il / ds_l)
-    for (int l = 0; l < 3; ++l) {
-      if (l == i) continue;
-      const double t = std::abs(s(i) - s(l)) / kStrainLimitBlendGap;
-      w(l) = blend_weight(t);
-      if (out.derivatives) dw_ds(l) = blend_weight_slope(t) * sign_of(s(i) - s(l)) / kStrainLimitBlendGap;
-    }
+    const Vec3 w = blend_weights(s, i);
+    Vec3 dw_ds = Vec3::Zero();  // dw_il / ds_i (= -dw_il / ds_l)
+    if (out.derivatives)
+      for (int l = 0; l < 3; ++l)
+        if (l != i)
+          dw_ds(l) = blend_weight_slope(std::abs(s(i) - s(l)) / kStrainLimitBlendGap) * sign_of(s(i) - s(l)) /
+                     kStrainLimitBlendGap;
     for (int j = 0; j < 3; ++j) {
-      double a2 = c(i, j) * c(i, j);
-      for (int l = 0; l < 3; ++l) a2 += w(l) * c(l, j) * c(l, j);
-      const double a = std::sqrt(a2);
+      const double a = blended_cosine(c, w, i, j);
       if (a <= kTiny) continue;
       const int k_min = strain_limit_index(i, j, 0), k_max = strain_limit_index(i, j, 1);
       const bool min = has_min(spec.smin(j)), max = has_max(spec.smax(j));
@@ -110,10 +125,36 @@ void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd&
   }
 }
 
+// The hyperbolic constraints' values alone (every build evaluates every limited tet): the
+// operations of add_hyperbolic_terms, without its Terms.
+StrainLimitValues hyperbolic_values(const StrainLimitSpec& spec, const RotationVariantSvd& svd) {
+  StrainLimitValues out;
+  const Mat3 c = axis_cosines(spec, svd);
+  const Vec3& s = svd.S;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 w = blend_weights(s, i);
+    for (int j = 0; j < 3; ++j) {
+      const double a = blended_cosine(c, w, i, j);
+      if (a <= kTiny) continue;
+      if (has_min(spec.smin(j))) {
+        const int k = strain_limit_index(i, j, 0);
+        out.C[k] = a * (s(i) - 1) - (spec.smin(j) - 1);
+        out.present |= 1u << k;
+      }
+      if (has_max(spec.smax(j))) {
+        const int k = strain_limit_index(i, j, 1);
+        out.C[k] = (spec.smax(j) - 1) - a * (s(i) - 1);
+        out.present |= 1u << k;
+      }
+    }
+  }
+  return out;
+}
+
 // Every constraint the tet has, with its value and derivative coefficients, in index order.
 void collect_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, Terms& out) {
   out.count = 0;
-  const Mat3 c = svd.V.transpose() * spec.frame;  // c(i, j) = v_i . m_j
+  const Mat3 c = axis_cosines(spec, svd);
   const Vec3& s = svd.S;
   const Vec3& lo = spec.smin;
   const Vec3& hi = spec.smax;
@@ -188,6 +229,7 @@ void collect_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, T
 
 StrainLimitValues compute_strain_limit_values(const StrainLimitSpec& spec,
                                               const RotationVariantSvd& svd) {
+  if (spec.mode == StrainLimitMode::Hyperbolic) return hyperbolic_values(spec, svd);
   Terms terms;
   terms.derivatives = false;
   collect_terms(spec, svd, terms);
