@@ -96,7 +96,7 @@ namespace {
 // unless `exact` and defined, added times w; an invariant material's terms taken once.
 template <class Matrix>
 double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n, double w, Mat3& P,
-                 Matrix* hessian, bool exact) {
+                 Matrix* hessian, bool exact, const RotationVariantSvd* svd) {
   const bool defined = material.is_defined(F);
   const InvariantMaterial* invariant = material.as_invariant();
   if (!invariant) {
@@ -109,7 +109,7 @@ double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n
   const bool project = !(exact && defined);
   if (hessian && n == 4) {
     if constexpr (std::is_same_v<Matrix, Mat12>) {
-      add_invariant_tet_hessian(F, t, project, dN, w, *hessian);
+      add_invariant_tet_hessian(F, t, project, dN, w, *hessian, svd);
     } else {  // the padded path: the same entries, bit for bit (a tet has one point)
       Mat12 K = Mat12::Zero();
       add_invariant_tet_hessian(F, t, project, dN, w, K);
@@ -124,9 +124,10 @@ double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n
 // sum_q of the points' energies, gradients and projected Hessians (exact ones, with `exact`,
 // at points where the material is defined) over the first n nodes, into a gradient and
 // Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
+// svd: F's at the one point of a tet, when the caller has it.
 template <class Vector, class Matrix>
 double sum_over_points(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
-                       Vector& gradient, Matrix* hessian, bool exact = false) {
+                       Vector& gradient, Matrix* hessian, bool exact = false, const RotationVariantSvd* svd = nullptr) {
   double energy = 0;
   gradient.setZero();
   if (hessian) hessian->setZero();
@@ -134,7 +135,8 @@ double sum_over_points(const Material& material, const ElementQuadrature& quad, 
   for (int q = 0; q < quad.points; ++q) {
     const Mat83& dN = quad.dN_dX[q];
     Mat3 P;
-    energy += add_point(material, deformation_gradient(dN, nodes), dN, n, quad.weight, P, hessian, exact);
+    energy += add_point(material, deformation_gradient(dN, nodes), dN, n, quad.weight, P, hessian, exact,
+                        quad.points == 1 ? svd : nullptr);
     for (int a = 0; a < n; ++a) gradient.template segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
   }
   return energy;
@@ -160,8 +162,9 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
 }
 
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
-                                    const ElementNodes& nodes, Vec12& gradient, Mat12* hessian) {
-  return sum_over_points(material, quad, nodes, gradient, hessian);
+                                    const ElementNodes& nodes, Vec12& gradient, Mat12* hessian,
+                                    const RotationVariantSvd* svd) {
+  return sum_over_points(material, quad, nodes, gradient, hessian, false, svd);
 }
 
 double hyperelastic_element_exact_derivatives(const Material& material, const ElementQuadrature& quad,

@@ -8,6 +8,7 @@
 // B(i + 3j, 3a + i) = dN_a,j. Results are padded to 8 nodes like element_kernels.hpp.
 // A quadrature with mean_dilatation set goes to mean_dilatation_element.hpp instead.
 #include "engine/assembly/element_kernels.hpp"
+#include "engine/math/rotation_variant_svd.hpp"
 
 namespace sinew {
 
@@ -32,8 +33,11 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
 // The same for a tet (nodes.count 4, no mean dilatation) in 12 x 12: the same code
 // (sum_over_points), so the entries equal the padded version's bit for bit, without
 // zeroing and scattering a 24 x 24 matrix that is three-quarters padding.
+// svd: the SVD of the tet's F (deformation_gradient(quad.dN_dX[0], nodes)), when the caller
+// has it (a batch of them, compute_rotation_variant_svds): the same results, bit for bit.
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
-                                    const ElementNodes& nodes, Vec12& gradient, Mat12* hessian);
+                                    const ElementNodes& nodes, Vec12& gradient, Mat12* hessian,
+                                    const RotationVariantSvd* svd = nullptr);
 
 // The same with the exact Hessian d2Psi/dF2 (not projected; Newton near convergence), or the
 // projected one where the material is undefined at some point (J <= 0 for neo_hookean; the

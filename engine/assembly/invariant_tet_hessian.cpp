@@ -7,9 +7,9 @@
 namespace sinew {
 
 void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
-                               Mat12& hessian) {
+                               Mat12& hessian, const RotationVariantSvd* svd) {
   NegativeModes modes;
-  const int mode_count = project ? negative_modes(invariant_eigensystem(F, t), modes) : 0;
+  const int mode_count = project ? negative_modes(invariant_eigensystem(F, t, svd), modes) : 0;
   const Mat3 cofactor = cofactor_matrix(F);
   // Per node 1-3 (node 0's blocks follow from theirs below): dN_a and the vectors above.
   Vec3 d[3], u[3], z[3], p[9][3];

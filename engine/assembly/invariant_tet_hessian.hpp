@@ -18,7 +18,8 @@ namespace sinew {
 // hessian += w B^T H B for a tet's shape function gradients dN (rows 0-3; they sum to zero),
 // H the exact Hessian for the terms t when `project` is false, else that Hessian without the
 // negative modes of invariant_eigensystem(F, t) (InvariantMaterial::projected_hessian).
+// svd: F's, when the caller has it (invariant_eigensystem).
 void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
-                               Mat12& hessian);
+                               Mat12& hessian, const RotationVariantSvd* svd = nullptr);
 
 }  // namespace sinew

@@ -78,8 +78,8 @@ SvdEigensystem InvariantMaterial::eigensystem(const Mat3& F) const {
   return invariant_eigensystem(F, terms_at(*this, F));
 }
 
-SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t) {
-  SvdEigensystem system{compute_rotation_variant_svd(F)};
+SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t, const RotationVariantSvd* svd) {
+  SvdEigensystem system{svd ? *svd : compute_rotation_variant_svd(F)};
   const Vec3& s = system.svd.S;
   const Vec3 c(s(1) * s(2), s(0) * s(2), s(0) * s(1));
   for (int k = 0; k < 3; ++k) {

@@ -38,7 +38,9 @@ struct InvariantTerms {
 Mat3 invariant_pk1(const Mat3& F, const InvariantTerms& t);
 Mat9 invariant_hessian(const Mat3& F, const InvariantTerms& t);
 Mat9 invariant_projected_hessian(const Mat3& F, const InvariantTerms& t);  // without its negative modes
-SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t);
+// svd: F's, when the caller has it (compute_rotation_variant_svds for a batch): the same
+// result, bit for bit.
+SvdEigensystem invariant_eigensystem(const Mat3& F, const InvariantTerms& t, const RotationVariantSvd* svd = nullptr);
 
 class InvariantMaterial : public IsotropicMaterial {
  public:

@@ -58,17 +58,16 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     for (int a = 0; a < count; ++a)
       if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) gradient.segment<3>(3 * f) += g.template segment<3>(3 * a);
   };
-  for_each_scheduled_element(model.element_schedule, [&](int e) {
-    if (!is_hyperelastic(model, e)) return;
-    const ElementNodes nodes = gather_element_nodes(model, x, e);
+  // svd: F's, for a tet whose projected Hessian is wanted (from the batch below), or null.
+  const auto visit = [&](int e, const ElementNodes& nodes, const ElementQuadrature& quad,
+                         const RotationVariantSvd* svd) {
     const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
-    const ElementQuadrature quad = element_quadrature(model, e);
     // Tets in 12 x 12, with the projected or (Newton near convergence) the exact Hessian.
     if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
       Mat12 K;
       energy[e] = values && exact ? hyperelastic_tet_exact_derivatives(material, quad, nodes, g, K)
-                                  : hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr);
+                                  : hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr, svd);
       add_gradient(e, 4, g);
       if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
       return;
@@ -79,6 +78,35 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
                                 : hyperelastic_element_derivatives(material, quad, nodes, g, values ? &K : nullptr);
     add_gradient(e, nodes.count, g);
     if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
+  };
+  // A block's elements four at a time: the SVDs of the projected tet Hessians' F in one batch
+  // (compute_rotation_variant_svds, the bits of one at a time), then each element in turn.
+  const bool projected_hessians = values && !exact;
+  for_each_scheduled_block(model.element_schedule, [&](int first, int last) {
+    for (int group = first; group < last; group += 4) {
+      const int count = std::min(4, last - group);
+      ElementNodes nodes[4];
+      ElementQuadrature quads[4];
+      Mat3 F[4];
+      RotationVariantSvd svds[4];
+      int batched[4], in_batch = 0;
+      for (int k = 0; k < count; ++k) {
+        const int e = group + k;
+        batched[k] = -1;
+        if (!is_hyperelastic(model, e)) continue;
+        nodes[k] = gather_element_nodes(model, x, e);
+        quads[k] = element_quadrature(model, e);
+        if (projected_hessians && nodes[k].count == 4 && !quads[k].mean_dilatation && quads[k].points == 1 &&
+            model.bodies[model.element_body[e]].hyperelastic->as_invariant()) {
+          F[in_batch] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
+          batched[k] = in_batch++;
+        }
+      }
+      compute_rotation_variant_svds(F, svds, in_batch);
+      for (int k = 0; k < count; ++k)
+        if (is_hyperelastic(model, group + k))
+          visit(group + k, nodes[k], quads[k], batched[k] >= 0 ? &svds[batched[k]] : nullptr);
+    }
   });
 }
 

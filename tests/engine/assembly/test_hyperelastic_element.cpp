@@ -155,7 +155,7 @@ TEST_CASE("hyperelastic element: tet4 Hessian = FD of the gradient, padding zero
   CHECK((K12 - K12.transpose()).norm() <= 1e-12 * K12.norm());
 }
 
-TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit for bit") {
+TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit for bit, also from a given SVD") {
   // Same sums in the same order (hyperelastic_element.hpp), on tets stretched, compressed,
   // sheared and inverted (J < 0, where the projection removes modes), for two materials.
   const TetFixture t;
@@ -184,6 +184,14 @@ TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit 
       Vec12 g_only;
       CHECK(((hyperelastic_tet_derivatives(*material, quad, nodes, g_only, nullptr) == e12) || std::isinf(e12)));
       CHECK(g_only == g12);
+      // With F's SVD given (solve_newton's batches): the same bits.
+      const RotationVariantSvd svd = compute_rotation_variant_svd(deformation_gradient(dN, nodes));
+      Vec12 g_svd;
+      Mat12 K_svd;
+      const double e_svd = hyperelastic_tet_derivatives(*material, quad, nodes, g_svd, &K_svd, &svd);
+      CHECK(((e_svd == e12) || (std::isinf(e_svd) && std::isinf(e12))));
+      CHECK(g_svd == g12);
+      CHECK(K_svd == K12);
     }
     REQUIRE(inverted > 0);  // the inverted branch was exercised
   }
