@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "engine/assembly/for_each_scheduled_element.hpp"
+#include "engine/assembly/hyperelastic_batches.hpp"
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
 #include "engine/solve/system_product.hpp"
@@ -30,15 +31,11 @@ void gather_free(const Model& model, const VecX& full, VecX& free) {
     if (const int f = model.free_index[n]; f >= 0) free.segment<3>(3 * f) = full.segment<3>(3 * n);
 }
 
-bool is_hyperelastic(const Model& model, int e) {
-  return model.bodies[model.element_body[e]].hyperelastic != nullptr;
-}
-
 // Per-element hyperelastic energies at x (+infinity where undefined; 0 for linear elements).
 void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double>& energy) {
   energy.assign(model.num_elements, 0.0);
   tbb::parallel_for(0, model.num_elements, [&](int e) {
-    if (!is_hyperelastic(model, e)) return;
+    if (!is_hyperelastic_element(model, e)) return;
     energy[e] = hyperelastic_element_energy(*model.bodies[model.element_body[e]].hyperelastic,
                                             element_quadrature(model, e), gather_element_nodes(model, x, e));
   });
@@ -79,35 +76,8 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     add_gradient(e, nodes.count, g);
     if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
   };
-  // A block's elements four at a time: the SVDs of the projected tet Hessians' F in one batch
-  // (compute_rotation_variant_svds, the bits of one at a time), then each element in turn.
-  const bool projected_hessians = values && !exact;
-  for_each_scheduled_block(model.element_schedule, [&](int first, int last) {
-    for (int group = first; group < last; group += 4) {
-      const int count = std::min(4, last - group);
-      ElementNodes nodes[4];
-      ElementQuadrature quads[4];
-      Mat3 F[4];
-      RotationVariantSvd svds[4];
-      int batched[4], in_batch = 0;
-      for (int k = 0; k < count; ++k) {
-        const int e = group + k;
-        batched[k] = -1;
-        if (!is_hyperelastic(model, e)) continue;
-        nodes[k] = gather_element_nodes(model, x, e);
-        quads[k] = element_quadrature(model, e);
-        if (projected_hessians && nodes[k].count == 4 && !quads[k].mean_dilatation && quads[k].points == 1 &&
-            model.bodies[model.element_body[e]].hyperelastic->as_invariant()) {
-          F[in_batch] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
-          batched[k] = in_batch++;
-        }
-      }
-      compute_rotation_variant_svds(F, svds, in_batch);
-      for (int k = 0; k < count; ++k)
-        if (is_hyperelastic(model, group + k))
-          visit(group + k, nodes[k], quads[k], batched[k] >= 0 ? &svds[batched[k]] : nullptr);
-    }
-  });
+  // The projected tet Hessians' SVDs four at a time (hyperelastic_batches.hpp).
+  for_each_hyperelastic_element(model, x, values && !exact, visit);
 }
 
 // Round-off of a change of Psi computed as sum_e (Psi_e(x') - Psi_e(x)): each energy

@@ -1,0 +1,54 @@
+#pragma once
+// The hyperelastic elements of a model in the element schedule's order (colours in turn, a
+// colour's blocks in parallel, each block's elements in index order), a block's elements
+// four at a time: where the projected Hessians are wanted, the SVDs of the one-point tets'
+// F (invariant materials: the projection needs F's eigensystem) in one batch
+// (compute_rotation_variant_svds: the bits of one at a time, four lanes on AVX2). Each
+// element is then visited with its nodes, its quadrature and that SVD, or null.
+#include <algorithm>
+
+#include "engine/assembly/element_kernels.hpp"
+#include "engine/assembly/for_each_scheduled_element.hpp"
+#include "engine/assembly/hyperelastic_element.hpp"
+#include "engine/math/rotation_variant_svd.hpp"
+#include "engine/model.hpp"
+
+namespace sinew {
+
+inline bool is_hyperelastic_element(const Model& model, int e) {
+  return model.bodies[model.element_body[e]].hyperelastic != nullptr;
+}
+
+// visit(e, nodes, quad, svd): svd is F's (F = deformation_gradient(quad.dN_dX[0], nodes)) for
+// a one-point tet of an invariant material when `projected_hessians`, else null.
+template <class Visit>
+void for_each_hyperelastic_element(const Model& model, const VecX& x, bool projected_hessians, const Visit& visit) {
+  for_each_scheduled_block(model.element_schedule, [&](int first, int last) {
+    for (int group = first; group < last; group += 4) {
+      const int count = std::min(4, last - group);
+      ElementNodes nodes[4];
+      ElementQuadrature quads[4];
+      Mat3 F[4];
+      RotationVariantSvd svds[4];
+      int batched[4], in_batch = 0;
+      for (int k = 0; k < count; ++k) {
+        const int e = group + k;
+        batched[k] = -1;
+        if (!is_hyperelastic_element(model, e)) continue;
+        nodes[k] = gather_element_nodes(model, x, e);
+        quads[k] = element_quadrature(model, e);
+        if (projected_hessians && nodes[k].count == 4 && !quads[k].mean_dilatation && quads[k].points == 1 &&
+            model.bodies[model.element_body[e]].hyperelastic->as_invariant()) {
+          F[in_batch] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
+          batched[k] = in_batch++;
+        }
+      }
+      compute_rotation_variant_svds(F, svds, in_batch);
+      for (int k = 0; k < count; ++k)
+        if (is_hyperelastic_element(model, group + k))
+          visit(group + k, nodes[k], quads[k], batched[k] >= 0 ? &svds[batched[k]] : nullptr);
+    }
+  });
+}
+
+}  // namespace sinew
