@@ -84,6 +84,10 @@ double blended_cosine(const Mat3& c, const Vec3& w, int i, int j) {
   return std::sqrt(a2);
 }
 
+// The hyperbolic constraints of principal stretch s against axis j's limits (eqs. 11-12).
+double hyperbolic_compress(double a, double s, double smin) { return a * (s - 1) - (smin - 1); }
+double hyperbolic_stretch(double a, double s, double smax) { return (smax - 1) - a * (s - 1); }
+
 // Hyperbolic constraints with the blended cosine (header): a_ij^2 = c_ij^2 + sum_l w_il c_lj^2.
 void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat3& c, Terms& out) {
   const Vec3& s = svd.S;
@@ -100,7 +104,7 @@ void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd&
       if (a <= kTiny) continue;
       const int k_min = strain_limit_index(i, j, 0), k_max = strain_limit_index(i, j, 1);
       const bool min = has_min(spec.smin(j)), max = has_max(spec.smax(j));
-      const double C_min = a * (s(i) - 1) - (spec.smin(j) - 1), C_max = (spec.smax(j) - 1) - a * (s(i) - 1);
+      const double C_min = hyperbolic_compress(a, s(i), spec.smin(j)), C_max = hyperbolic_stretch(a, s(i), spec.smax(j));
       if (!(min && out.wanted(k_min, C_min)) && !(max && out.wanted(k_max, C_max))) {
         if (min) out.add(k_min, i, C_min, a);
         if (max) out.add(k_max, i, C_max, -a);
@@ -138,12 +142,12 @@ StrainLimitValues hyperbolic_values(const StrainLimitSpec& spec, const RotationV
       if (a <= kTiny) continue;
       if (has_min(spec.smin(j))) {
         const int k = strain_limit_index(i, j, 0);
-        out.C[k] = a * (s(i) - 1) - (spec.smin(j) - 1);
+        out.C[k] = hyperbolic_compress(a, s(i), spec.smin(j));
         out.present |= 1u << k;
       }
       if (has_max(spec.smax(j))) {
         const int k = strain_limit_index(i, j, 1);
-        out.C[k] = (spec.smax(j) - 1) - a * (s(i) - 1);
+        out.C[k] = hyperbolic_stretch(a, s(i), spec.smax(j));
         out.present |= 1u << k;
       }
     }
@@ -273,11 +277,9 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd
   // 324), and their derivative coefficients would go unused. Not when rows are kept (rows
   // that carried force, or the curvature's probes, 10 calls per tet): they are wanted.
   if (keep == 0) {
-    Terms terms;
-    terms.derivatives = false;
-    collect_terms(spec, svd, terms);
+    const StrainLimitValues values = compute_strain_limit_values(spec, svd);
     bool any = false;
-    for (int t = 0; t < terms.count; ++t) any = any || terms.term[t].C < margin;
+    for (int k = 0; k < kStrainLimitCount; ++k) any = any || ((values.present >> k & 1u) && values.C[k] < margin);
     if (!any) return;
   }
   evaluate_strain_limit_rows(spec, svd, dN_dX, margin, keep, out, gap_tolerance);

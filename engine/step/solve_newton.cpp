@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/assembly/for_each_scheduled_element.hpp"
 #include "engine/assembly/hyperelastic_batches.hpp"
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
