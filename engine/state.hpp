@@ -47,6 +47,7 @@ struct StepScratch {
   KeptStorage<BodyContactRowBuffers> body_contact_row_buffers;
   // solve_newton's
   SparseMatrix newton_A0, newton_H;
+  VecX newton_A0_diagonal;  // A0's diagonal, when that is all of A0 (solve_newton)
   VecX newton_x0, newton_b0, newton_predicted_impulse, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
       negative_gradient;
   std::vector<double> psi, psi_trial, force2;

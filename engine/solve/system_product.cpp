@@ -32,4 +32,9 @@ void multiply_system(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, Vec
                     [&](const tbb::blocked_range<int>& r) { columns(r.begin(), r.end()); });
 }
 
+void multiply_diagonal(const VecX& d, const VecX& x, VecX& out) {
+  out.resize(x.size());
+  out.array() = d.array() * x.array() + 0.0;
+}
+
 }  // namespace sinew

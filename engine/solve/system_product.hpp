@@ -12,4 +12,10 @@ namespace sinew {
 // symmetric with both triangles stored. out must not alias x.
 void multiply_system(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, VecX& out);
 
+// out = A x for an A whose nonzero entries all lie on its diagonal d, stored on a whole
+// pattern (a hyperelastic scene's mass matrix): one pass over d, with the bits of
+// multiply_system's column sums, which add exact zeros around d_j x_j ("+ 0.0" gives the +0
+// those sums give where d_j x_j is -0). out must not alias x.
+void multiply_diagonal(const VecX& d, const VecX& x, VecX& out);
+
 }  // namespace sinew
