@@ -72,6 +72,7 @@ const std::vector<double>& worst_per_element(const Model& model, const VecX& x, 
     RotationVariantSvd svds[4];
     int count = 0;
     const auto evaluate = [&] {
+      if (count == 0) return;
       compute_rotation_variant_svds(F, svds, count);
       for (int k = 0; k < count; ++k) {
         const int e = tets[k];

@@ -228,7 +228,7 @@ TetMeshFile read_tetgen(const std::string& path) {
   if (!degenerate.empty()) {
     const auto& t = out.mesh.tets[degenerate.front()];
     std::string ids;
-    for (int n : t) ids += " " + std::to_string(n + nodes.base);
+    for (int n : t) ids.append(" ").append(std::to_string(n + nodes.base));
     throw InputError(ele_path + ":" + std::to_string(lines[degenerate.front()]) +
                      ": expected a tetrahedron of nonzero volume, nodes" + ids +
                      " are (nearly) coplanar (" + std::to_string(degenerate.size()) +
