@@ -206,15 +206,15 @@ MatX Delassus::matrix() const {
 void Delassus::start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c) {
   this->c() = c;
   if (m_dense) {
-    // W lambda over the columns with a multiplier only (W is stored whole, so its columns are
-    // its rows), then + c: the flat finger's warm starts put force on about a third of the
-    // rows, and a product over all of them was 3 % of its step.
+    // W lambda as the sum of the columns with a multiplier only, then + c: the flat finger's
+    // warm starts put force on about a third of the rows, and a product over all of them was
+    // 3 % of its step.
     Eigen::Map<VecX> u = state();
     u.setZero();
     const double* w = W().data();
     const Eigen::Index n = size();
     add_scaled_nonzero(u.data(), size(), size(), lambda.data(), [&](int i) { return w + i * n; });
-    u += c;
+    u += this->c();
   } else {
     Eigen::Map<VecX> u = state();
     factored_product(lambda, u);

@@ -14,8 +14,9 @@ void multiply_system(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, Vec
 
 // out = A x for an A whose nonzero entries all lie on its diagonal d, stored on a whole
 // pattern (a hyperelastic scene's mass matrix): one pass over d, with the bits of
-// multiply_system's column sums, which add exact zeros around d_j x_j ("+ 0.0" gives the +0
-// those sums give where d_j x_j is -0). out must not alias x.
+// multiply_system's column sums for a finite x, as those add exact zeros around d_j x_j
+// ("+ 0.0" gives the +0 they give where d_j x_j is -0). (An infinite x_i spreads NaN to other
+// entries there, 0 * inf, not here.) out must not alias x.
 void multiply_diagonal(const VecX& d, const VecX& x, VecX& out);
 
 }  // namespace sinew

@@ -24,6 +24,16 @@ void positions_at(const Model& model, double t_end, const VecX& x0, const VecX& 
     for (int n : driven.nodes) x.segment<3>(3 * n) = driven.position(model.rest_x.segment<3>(3 * n), t_end);
 }
 
+// Whether every entry of A off the positions `diagonal` is +0 (the test of a debug build:
+// A0's diagonal products stand on it).
+[[maybe_unused]] bool only_diagonal_entries(const SparseMatrix& A, const std::vector<int>& diagonal) {
+  std::vector<char> on_diagonal(A.nonZeros(), 0);
+  for (const int k : diagonal) on_diagonal[k] = 1;
+  for (Eigen::Index k = 0; k < A.nonZeros(); ++k)
+    if (!on_diagonal[k] && (A.valuePtr()[k] != 0 || std::signbit(A.valuePtr()[k]))) return false;
+  return true;
+}
+
 void gather_free(const Model& model, const VecX& full, VecX& free) {
   free.resize(3 * model.num_free);
   for (int n = 0; n < model.num_nodes; ++n)
@@ -142,13 +152,15 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // Without a linear element awake (every stiffness_scale 0) A0 holds the mass and mass
   // damping on its diagonal alone (assemble_system_matrix zeroes the pattern and adds them
   // there): its products then take one pass over that diagonal instead of the whole pattern
-  // (bunny_5: 1.1 M instructions a product, three a step), with the same bits.
+  // (bunny_5: 1.1 M instructions a product, three a step), with the same bits for finite
+  // velocities (a non-finite one fails the step either way).
   VecX& A0_diagonal = scratch.newton_A0_diagonal;
   const bool A0_is_diagonal = std::all_of(state.stiffness_scale.begin(), state.stiffness_scale.end(),
                                           [](double scale) { return scale == 0; });
   if (A0_is_diagonal) {
     A0_diagonal.resize(3 * model.num_free);
     for (int i = 0; i < 3 * model.num_free; ++i) A0_diagonal[i] = A0.valuePtr()[model.pattern.diagonal[i]];
+    assert(only_diagonal_entries(A0, model.pattern.diagonal));  // checked in the sanitizer build
   }
   const auto multiply_A0 = [&](const VecX& in, VecX& out) {
     if (A0_is_diagonal) multiply_diagonal(A0_diagonal, in, out);

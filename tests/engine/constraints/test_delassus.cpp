@@ -78,6 +78,13 @@ TEST_CASE("Delassus: factored, dense and direct forms all equal J H^-1 J^T") {
     std::normal_distribution<double> normal;
     VecX lambda(m), c(m);
     for (int i = 0; i < m; ++i) lambda[i] = normal(rng), c[i] = normal(rng);
+    // A warm start with force on 7 rows only (not a multiple of the four columns the dense
+    // start sums a pass): the rows without force add nothing, the last three still count.
+    VecX sparse = VecX::Zero(m);
+    for (int i = 0; i < 7; ++i) sparse[(5 * i + 1) % m] = normal(rng);
+    W.start(sparse, c);
+    const VecX w_sparse = expected * sparse + c;
+    for (int i = 0; i < m; ++i) CHECK(W.w(i) == doctest::Approx(w_sparse[i]).epsilon(1e-10));
     W.start(lambda, c);
     lambda[3] += 0.7;
     W.changed(3, 0.7);
