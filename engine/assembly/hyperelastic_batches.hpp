@@ -4,7 +4,7 @@
 // four at a time: where the projected Hessians are wanted, the SVDs of the one-point tets'
 // F (invariant materials: the projection needs F's eigensystem) in one batch
 // (compute_rotation_variant_svds: the bits of one at a time, four lanes on AVX2). Each
-// element is then visited with its nodes, its quadrature and that SVD, or null.
+// element is then visited with its nodes, its quadrature and that F with its SVD, or null.
 #include <algorithm>
 
 #include "engine/assembly/element_kernels.hpp"
@@ -19,8 +19,8 @@ inline bool is_hyperelastic_element(const Model& model, int e) {
   return model.bodies[model.element_body[e]].hyperelastic != nullptr;
 }
 
-// visit(e, nodes, quad, svd): svd is F's (F = deformation_gradient(quad.dN_dX[0], nodes)) for
-// a one-point tet of an invariant material when `projected_hessians`, else null.
+// visit(e, nodes, quad, given): given holds F = deformation_gradient(quad.dN_dX[0], nodes) and
+// its SVD for a one-point tet of an invariant material when `projected_hessians`, else null.
 template <class Visit>
 void for_each_hyperelastic_element(const Model& model, const VecX& x, bool projected_hessians, const Visit& visit) {
   for_each_scheduled_block(model.element_schedule, [&](int first, int last) {
@@ -44,9 +44,15 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
         }
       }
       compute_rotation_variant_svds(F, svds, in_batch);
-      for (int k = 0; k < count; ++k)
-        if (is_hyperelastic_element(model, group + k))
-          visit(group + k, nodes[k], quads[k], batched[k] >= 0 ? &svds[batched[k]] : nullptr);
+      for (int k = 0; k < count; ++k) {
+        if (!is_hyperelastic_element(model, group + k)) continue;
+        if (batched[k] < 0) {
+          visit(group + k, nodes[k], quads[k], nullptr);
+          continue;
+        }
+        const GivenDeformation given{F[batched[k]], svds[batched[k]]};
+        visit(group + k, nodes[k], quads[k], &given);
+      }
     }
   });
 }

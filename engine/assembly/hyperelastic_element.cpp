@@ -124,10 +124,12 @@ double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n
 // sum_q of the points' energies, gradients and projected Hessians (exact ones, with `exact`,
 // at points where the material is defined) over the first n nodes, into a gradient and
 // Hessian of 3 n or more entries (Vec24/Mat24 padded, Vec12/Mat12 for a tet).
-// svd: F's at the one point of a tet, when the caller has it.
+// given: F and its SVD at the one point of a tet, when the caller has them.
 template <class Vector, class Matrix>
 double sum_over_points(const Material& material, const ElementQuadrature& quad, const ElementNodes& nodes,
-                       Vector& gradient, Matrix* hessian, bool exact = false, const RotationVariantSvd* svd = nullptr) {
+                       Vector& gradient, Matrix* hessian, bool exact = false,
+                       const GivenDeformation* given = nullptr) {
+  if (quad.points != 1) given = nullptr;
   double energy = 0;
   gradient.setZero();
   if (hessian) hessian->setZero();
@@ -135,8 +137,8 @@ double sum_over_points(const Material& material, const ElementQuadrature& quad, 
   for (int q = 0; q < quad.points; ++q) {
     const Mat83& dN = quad.dN_dX[q];
     Mat3 P;
-    energy += add_point(material, deformation_gradient(dN, nodes), dN, n, quad.weight, P, hessian, exact,
-                        quad.points == 1 ? svd : nullptr);
+    energy += add_point(material, given ? given->F : deformation_gradient(dN, nodes), dN, n, quad.weight, P,
+                        hessian, exact, given ? &given->svd : nullptr);
     for (int a = 0; a < n; ++a) gradient.template segment<3>(3 * a) += quad.weight * (P * dN.row(a).transpose());
   }
   return energy;
@@ -163,8 +165,8 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
 
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian,
-                                    const RotationVariantSvd* svd) {
-  return sum_over_points(material, quad, nodes, gradient, hessian, false, svd);
+                                    const GivenDeformation* given) {
+  return sum_over_points(material, quad, nodes, gradient, hessian, false, given);
 }
 
 double hyperelastic_element_exact_derivatives(const Material& material, const ElementQuadrature& quad,

@@ -64,16 +64,16 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     for (int a = 0; a < count; ++a)
       if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) gradient.segment<3>(3 * f) += g.template segment<3>(3 * a);
   };
-  // svd: F's, for a tet whose projected Hessian is wanted (from the batch below), or null.
+  // given: F and its SVD, for a tet whose projected Hessian is wanted (from the batch below), or null.
   const auto visit = [&](int e, const ElementNodes& nodes, const ElementQuadrature& quad,
-                         const RotationVariantSvd* svd) {
+                         const GivenDeformation* given) {
     const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
     // Tets in 12 x 12, with the projected or (Newton near convergence) the exact Hessian.
     if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
       Mat12 K;
       energy[e] = values && exact ? hyperelastic_tet_exact_derivatives(material, quad, nodes, g, K)
-                                  : hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr, svd);
+                                  : hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr, given);
       add_gradient(e, 4, g);
       if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
       return;

@@ -1,6 +1,7 @@
 // for_each_hyperelastic_element (hyperelastic_batches.hpp): every hyperelastic element once,
-// in the schedule's order within each block, with an SVD exactly where a projected one-point
-// tet Hessian of an invariant material needs one, equal bit for bit to one computed alone.
+// in the schedule's order within each block, with F and its SVD exactly where a projected
+// one-point tet Hessian of an invariant material needs them, equal bit for bit to ones
+// computed alone.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -62,21 +63,24 @@ TEST_CASE("hyperelastic batches: every hyperelastic element once, SVDs where nee
       std::mutex mutex;
       for_each_hyperelastic_element(model, x, projected, [&](int e, const ElementNodes& nodes,
                                                               const ElementQuadrature& quad,
-                                                              const RotationVariantSvd* svd) {
+                                                              const GivenDeformation* given) {
         const std::lock_guard<std::mutex> lock(mutex);
         ++visits[e];
         const int body = model.element_body[e];
         const bool wants = projected && nodes.count == 4 && quad.points == 1;
         if (!wants) {
-          if (svd) ++wrong[body];
+          if (given) ++wrong[body];
           return;
         }
-        if (!svd) {
+        if (!given) {
           ++missing[body];
           return;
         }
         ++batched_tets[body];
-        if (!same_bits(*svd, compute_rotation_variant_svd(deformation_gradient(quad.dN_dX[0], nodes)))) ++wrong[body];
+        const Mat3 F = deformation_gradient(quad.dN_dX[0], nodes);
+        if (std::memcmp(given->F.data(), F.data(), sizeof(double) * 9) != 0 ||
+            !same_bits(given->svd, compute_rotation_variant_svd(F)))
+          ++wrong[body];
       });
       for (int e = 0; e < model.num_elements; ++e)
         CHECK(visits[e] == (model.bodies[model.element_body[e]].hyperelastic ? 1 : 0));
@@ -108,7 +112,7 @@ TEST_CASE("hyperelastic batches: each block's elements in index order") {
   });
   std::vector<int> visited;
   for_each_hyperelastic_element(model, x, true, [&](int e, const ElementNodes&, const ElementQuadrature&,
-                                                    const RotationVariantSvd*) {
+                                                    const GivenDeformation*) {
     const std::lock_guard<std::mutex> lock(mutex);
     visited.push_back(e);
   });

@@ -184,11 +184,13 @@ TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit 
       Vec12 g_only;
       CHECK(((hyperelastic_tet_derivatives(*material, quad, nodes, g_only, nullptr) == e12) || std::isinf(e12)));
       CHECK(g_only == g12);
-      // With F's SVD given (solve_newton's batches): the same bits.
-      const RotationVariantSvd svd = compute_rotation_variant_svd(deformation_gradient(dN, nodes));
+      // With F and its SVD given (solve_newton's batches): the same bits.
+      const Mat3 F = deformation_gradient(dN, nodes);
+      const RotationVariantSvd svd = compute_rotation_variant_svd(F);
+      const GivenDeformation given{F, svd};
       Vec12 g_svd;
       Mat12 K_svd;
-      const double e_svd = hyperelastic_tet_derivatives(*material, quad, nodes, g_svd, &K_svd, &svd);
+      const double e_svd = hyperelastic_tet_derivatives(*material, quad, nodes, g_svd, &K_svd, &given);
       CHECK(((e_svd == e12) || (std::isinf(e_svd) && std::isinf(e12))));
       CHECK(g_svd == g12);
       CHECK(K_svd == K12);
