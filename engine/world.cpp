@@ -246,6 +246,9 @@ bool World::attempt_step() {
     ok = false;
     m_budget_guard_tripped = true;
   }
+  // Past any tolerance by orders of magnitude, at any caps: diverged (scene.hpp), retried or
+  // stopped like a NaN rather than taken.
+  if (ok && s.step_violation > cfg.divergence_violation_limit) ok = false;
   if (!m_solver.uses_cholmod()) {
     const LinearSolver::PcgTotals& pcg_end = m_solver.pcg_totals();
     // Every step of a PCG scene, 0 included (a name first met in a warm step would allocate).

@@ -200,7 +200,8 @@ int run_command(int argc, char** argv) {
                 realtime ? " (paced to wall time)" : "", loop.counters().over_budget, loop.counters().frames);
   if (!finite) {
     std::fprintf(stderr,
-                 "error: the simulation met a NaN/Inf, a singular system or a node faster than solver.max_speed\n"
+                 "error: the simulation met a NaN/Inf, a singular system, a node faster than solver.max_speed\n"
+                 "       or a constraint more than solver.divergence_violation_limit times its tolerance past it\n"
                  "       at t = %.4f s, also when retried afresh and in 2 and 4 sub-steps, and stopped;\n"
                  "       outputs hold the last valid state (frame %zu)\n",
                  world.state().t, stats.size() - 1);

@@ -668,6 +668,7 @@ SolverDesc parse_solver(const Object& o) {
   o.number("strain_tolerance", s.strain_tolerance, kPositive);
   o.number("max_speed", s.max_speed, kPositive);
   o.number("budget_violation_limit", s.budget_violation_limit, kPositive);
+  o.number("divergence_violation_limit", s.divergence_violation_limit, kPositive);
   o.number("strain_activation_margin", s.strain_activation_margin, kNonNegative);
   o.integer("newton_max_iterations", s.newton_max_iterations, kPositive);
   o.number("newton_tolerance", s.newton_tolerance, kPositive);
@@ -681,7 +682,7 @@ const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_ite
                              "pgs_max_iterations", "pgs_tolerance", "pgs_subspace_interval", "pgs_sweeps", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
                              "contact_margin", "body_friction", "sqp_position_tolerance", "sqp_stall_tolerance", "sqp_acceleration", "sqp_solves", "newton_predictor",
-                             "refactor_interval", "curved_refactor_interval", "delassus_reuse", "max_speed", "budget_violation_limit", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
+                             "refactor_interval", "curved_refactor_interval", "delassus_reuse", "max_speed", "budget_violation_limit", "divergence_violation_limit", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
                              "newton_tolerance", "sleep_speed", "sleep_acceleration", "sleep_steps"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",
                             "frames", "solver",  "bodies", "obstacles"};

@@ -3,10 +3,13 @@
 // by a kinematic plate (a downward-facing plane, docs/scenes.md "motion") in 1 s, held for
 // 0.5 s, then the plate is pulled away in 0.1 s and the ball released. Linear corotational
 // (hex), the same with a 1 J energy limit per element (full run only: the limit cannot hold
-// when the plate flattens the ball, contact and limit conflict and every step runs SQP and PGS
-// to their caps), and Stable Neo-Hookean (tets). Every step must be solved, finite; how flat
-// it got, how much of its height came back and the worst violations are reported. The
-// surface is coarser than the lattice (0.125 m) to keep the contact rows few.
+// when the plate flattens the ball: contact and limit conflict), and Stable Neo-Hookean
+// (tets). Every step must be solved, finite; how flat it got, how much of its height came back
+// and the worst violations are reported. The conflicting variant may instead stop on a
+// cleanly refused step: its steps end far past the energy limit, which the engine now calls
+// diverged (solver.divergence_violation_limit); it used to run on to nodes at 6.8 km/s and
+// penetrations of 28 m. The surface is coarser than the lattice (0.125 m) to keep the contact
+// rows few.
 #include "engine/core/progress.hpp"
 #include "tools/stress/stress_case.hpp"
 
@@ -18,17 +21,18 @@ struct Variant {
   const char* label;
   const char* body_keys;  // material and what goes with it
   bool full_only;         // the conflicting limit costs seconds a step
+  bool may_stop;          // the constraints conflict: a clean stop is a pass too
 };
 inline const Variant kVariants[] = {
     {"corotational hex",
      R"("material": {"model": "corotational", "E": 1e5, "nu": 0.3, "rho": 1000}, "damping": {"stiffness": 0.01})",
-     false},
+     false, false},
     {"corotational hex, Umax 1 J",
      R"("material": {"model": "corotational", "E": 1e5, "nu": 0.3, "rho": 1000}, "damping": {"stiffness": 0.01},
-        "energy_limit": {"Umax": 1.0})", true},
+        "energy_limit": {"Umax": 1.0})", true, true},
     {"stable_neo_hookean tet",
      R"("elements": "tet", "material": {"model": "stable_neo_hookean", "E": 1e5, "nu": 0.3, "rho": 1000},
-        "damping": {"mass": 2})", false}};
+        "damping": {"mass": 2})", false, false}};
 
 constexpr double kDiameter = 0.5;  // m
 constexpr double kCrushedGap = 0.1 * kDiameter;
@@ -69,7 +73,8 @@ inline CaseResult run_crush_release(const Options& options) {
     progress.finish();
     const auto [lo, hi] = surface_y_range(world, 0);
     const double crushed = min_height / rest_height, recovered = (hi - lo) / rest_height;
-    completed += run.completed();
+    const bool stopped_cleanly = v.may_stop && run.finite && run.clean_rollback && run.refused_at >= 0;
+    completed += run.completed() || stopped_cleanly;
     flattest = std::min(flattest, crushed);
     least_recovered = std::min(least_recovered, recovered);
     if (run.worst_violation.count("penetration"))
@@ -79,7 +84,7 @@ inline CaseResult run_crush_release(const Options& options) {
     for (const auto& [kind, value] : run.worst_violation)
       if (has_constraint_kind(world.model(), kind)) violations += format(", worst %s %.3g", kind.c_str(), value);
     std::printf("  %-34s %s%s; crushed to %.0f %% of its height, back to %.0f %% at the end%s (%.1f s)\n", v.label,
-                run.completed() ? "" : "FAIL: ", describe(run).c_str(), 100 * crushed, 100 * recovered,
+                run.completed() || stopped_cleanly ? "" : "FAIL: ", describe(run).c_str(), 100 * crushed, 100 * recovered,
                 violations.c_str(), seconds);
     std::fflush(stdout);
     nlohmann::json entry = to_json(run);
@@ -90,8 +95,9 @@ inline CaseResult run_crush_release(const Options& options) {
     r.details["runs"].push_back(entry);
   }
   r.pass = completed == runs;
-  r.summary = format("%d/%d bodies crushed and released ran %d steps finite, no step refused; flattest %.0f %% of "
-                     "the rest height, least recovered %.0f %%, worst penetration %.3g m",
+  r.summary = format("%d/%d bodies crushed and released ran %d steps finite, no step refused (or, with conflicting "
+                     "constraints, stopped cleanly); flattest %.0f %% of the rest height, least recovered %.0f %%, "
+                     "worst penetration %.3g m",
                      completed, runs, steps, 100 * flattest, 100 * least_recovered, worst_penetration);
   return r;
 }
