@@ -209,10 +209,12 @@ struct SolverDesc {
   // A step that ends with some constraint more than this many times its tolerance past it has
   // diverged, whatever its caps: rolled back and retried like a NaN (afresh, then in 2 and 4
   // sub-steps), the run stopping if none holds. Taken, such steps ran away: a strain-limited
-  // column hit by random node moves went 0.14 -> 1 -> 3.2 -> 979 past its limits, nodes at
-  // 4.8 km/s, in four steps. The shipped scenes stay within 1 tolerance, but for paper 001's
-  // orthogonal projection (25.7: the limits it sets cannot all be met).
-  double divergence_violation_limit = 100;
+  // column hit by random node moves went 142 -> 1,000 -> 3,220 -> 979,000 tolerances past its
+  // limits in four steps, nodes at 4.8 km/s. The shipped scenes stay within 1 tolerance, but
+  // for paper 001's orthogonal projection (25.7: its limits cannot all be met); a hit leaves
+  // transients of a few hundred (an energy-limited beam 191, that recovers when taken: at a
+  // limit of 100 its run stopped at the hit).
+  double divergence_violation_limit = 1000;
   double strain_tolerance = 1e-3;  // worst strain-limit violation (stretch) SQP accepts
   double strain_activation_margin = 0.005;  // rows for constraints with C < this (stretch, predicted)
   // Newton on the incremental potential (hyperelastic bodies, paper 003).
