@@ -2,7 +2,7 @@
 # line on stderr that names the program, the option and the value given (never an abort,
 # never a number read from half of it), and --help exits 0 describing every option. Only
 # bad-argument and --help runs: nothing is benchmarked. Usage:
-#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DREALTIME=... -DOUT=dir -P this file.
+#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DREALTIME=... -DFORK_JOIN=... -DOUT=dir -P this file.
 cmake_minimum_required(VERSION 3.19)
 
 set(CHECK_NAME tools_cli_errors)
@@ -89,6 +89,12 @@ expect_help("${KERNELS}" --repeats --out)
 foreach(bad "--repeats;abc" "--repeats;3abc" "--repeats;0" "--bogus")
   list(GET bad 0 option)
   expect_refused("${KERNELS}" ${option} ${bad})
+endforeach()
+
+expect_help("${FORK_JOIN}" --rounds --out)
+foreach(bad "--rounds;abc" "--rounds;9" "--rounds;1e3" "--bogus")
+  list(GET bad 0 option)
+  expect_refused("${FORK_JOIN}" ${option} ${bad})
 endforeach()
 
 expect_help("${REALTIME}" --size --scene-file --frames --budget --threads --out)
