@@ -121,7 +121,9 @@ struct State {
   SleepState sleep;                  // per body sleeping (World::step, engine/sleep/sleep.hpp)
   std::vector<Attachment> attachments;  // surface points held at targets (set by callers: ui/ grabs)
   double step_violation = 0;         // the worst constraint violation at the step's end, over its
-                                     // tolerance (1: at it; 0 without constraints) (constraints)
+                                     // tolerance (1: at it; 0 without constraints) (constraints);
+                                     // after a refused step, its last attempt's
+  double step_limit_violation = 0;   // the same without attachment gaps: the divergence test's
   IterationCaps caps;                // lower iteration caps for the next step (set by callers: the
                                      // real-time budget, engine/realtime/); 0 = the scene's
 };

@@ -204,6 +204,7 @@ bool World::attempt_step() {
   State& s = m_state;
   s.profile.clear();
   s.step_violation = 0;
+  s.step_limit_violation = 0;
   s.impulse_predicted = false;  // solve_newton sets it for this step
   m_budget_guard_tripped = false;
   const SolverDesc& cfg = m_model.solver;
@@ -247,8 +248,9 @@ bool World::attempt_step() {
     m_budget_guard_tripped = true;
   }
   // Past any tolerance by orders of magnitude, at any caps: diverged (scene.hpp), retried or
-  // stopped like a NaN rather than taken.
-  if (ok && s.step_violation > cfg.divergence_violation_limit) ok = false;
+  // stopped like a NaN rather than taken (NaN included). Attachment gaps are left out: a grab
+  // pulled where the body cannot follow is not the solver's failure.
+  if (ok && !(s.step_limit_violation <= cfg.divergence_violation_limit)) ok = false;
   if (!m_solver.uses_cholmod()) {
     const LinearSolver::PcgTotals& pcg_end = m_solver.pcg_totals();
     // Every step of a PCG scene, 0 included (a name first met in a warm step would allocate).

@@ -13,7 +13,10 @@ class World {
   explicit World(Model model, const std::vector<Vec3>& initial_velocity = {});
 
   // Advances by model().h. A step that meets a NaN/Inf, a system matrix it cannot
-  // factorise or a node faster than solver.max_speed is rolled back and retried afresh,
+  // factorise, a node faster than solver.max_speed or a constraint (not an attachment) more
+  // than solver.divergence_violation_limit tolerances past at its end is rolled back (one that
+  // a real-time budget's caps left past budget_violation_limit is first redone at the scene's
+  // caps) and retried afresh,
   // then as 2 and 4 sub-steps (profile().iterations["step_retries"] counts the failed
   // attempts). Returns false, with the state rolled back to the start of the step and
   // profile().finite == false, if every retry failed too.

@@ -27,9 +27,12 @@ namespace {
 // so the LCP is solved on every step a contact closes: friction rows have no violation of
 // their own, and waiting for the penetration to exceed the tolerance would let bodies slide
 // freely on the steps in between (and sink, when g h^2 < contact_tolerance).
+// `limits`: the same worst without the attachments' gaps (the divergence test's measure: a
+// grab dragged where the body cannot follow is a wish, not a diverged step).
 double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
                   const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
-                  BodySurfaces& surfaces, EnergyScreen& screen, StepScratch& sc, StepProfile& profile) {
+                  BodySurfaces& surfaces, EnergyScreen& screen, StepScratch& sc, StepProfile& profile,
+                  double& limits) {
   RowTable& contacts = sc.contact_rows;
   rows.clear();
   // Limits and contacts share no data: built side by side (the creature: 40 and 55 us a
@@ -67,6 +70,7 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
     worst = std::max(worst, penetration / model.solver.contact_tolerance);
     if (k == 0 && penetration > 0) worst = std::max(worst, 2.0);
   }
+  limits = worst;
   if (!attachments.empty()) {
     const double gap = add_attachment_rows(model, attachments, x, rows);
     profile.violation["attachment"] = gap;
@@ -265,6 +269,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   StepProfile& profile = s.profile;
   s.keep_curved_factor = false;  // until this step's SQP says otherwise (the end)
   s.step_violation = 0;
+  s.step_limit_violation = 0;
   const bool constrained = has_constraints(model, s);
   // Nothing can make a row: v* ends the step, whatever the factorisation it came from (with
   // an older one the loop below would end there too, reporting "no near-active constraint").
@@ -318,6 +323,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     StageTimer timer(profile, Stage::Rows);
     if (!constrained) {
       s.rows.clear();
+      s.step_limit_violation = 0;
       return s.step_violation = 0.0;
     }
     ++profile.work.row_builds;
@@ -325,7 +331,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // Every way out of the loop below builds the rows at the step's last iterate: this is
     // then the step's violation.
     return s.step_violation = build_rows(model, s.t + h, k, sc.x_iterate, s.v, keep, s.attachments, s.rows,
-                                         s.body_surfaces, s.energy_screen, sc, profile);
+                                         s.body_surfaces, s.energy_screen, sc, profile, s.step_limit_violation);
   };
   // v* violates something. When the previous step was constrained too, v* has left out
   // the forces that held the body (a finger pressed on a table: v* runs 0.5 m through

@@ -12,8 +12,8 @@ namespace sinew::wp {
 namespace {
 
 // Bump when the file layout or the meaning of a sample changes.
-constexpr uint32_t kFormatVersion = 5;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration; 4: sqp_solves;
-                                        // 5: newton_predictor
+constexpr uint32_t kFormatVersion = 6;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration; 4: sqp_solves;
+                                        // 5: newton_predictor; 6: divergence_violation_limit
 constexpr char kMagic[8] = {'S', 'W', 'P', 'R', 'E', 'F', '\n', '\0'};
 
 nlohmann::json vec3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
@@ -47,6 +47,7 @@ nlohmann::json run_fingerprint(const SceneDesc& scene, const std::string& scene_
       {"delassus_reuse", s.delassus_reuse},
       {"activation_margin", s.activation_margin}, {"contact_tolerance", s.contact_tolerance},
       {"contact_margin", s.contact_margin}, {"body_friction", s.body_friction}, {"max_speed", s.max_speed},
+      {"divergence_violation_limit", s.divergence_violation_limit},
       {"strain_tolerance", s.strain_tolerance}, {"strain_activation_margin", s.strain_activation_margin},
       {"newton_max_iterations", s.newton_max_iterations}, {"newton_tolerance", s.newton_tolerance},
       {"sleep_steps", s.sleep_steps}};

@@ -227,6 +227,18 @@ TEST_CASE("scene parser: defaults of a minimal scene") {
   CHECK_FALSE(b.energy_limit.enabled);
 }
 
+TEST_CASE("scene parser: the step guards' limits") {
+  json scene = minimal_scene();
+  CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.divergence_violation_limit == 1000);
+  scene["solver"]["divergence_violation_limit"] = 50;
+  scene["solver"]["budget_violation_limit"] = 5;
+  const SceneDesc s = sinew::parse_scene_text(scene.dump(), "test.json", "");
+  CHECK(s.solver.divergence_violation_limit == 50);
+  CHECK(s.solver.budget_violation_limit == 5);
+  scene["solver"]["divergence_violation_limit"] = 0;
+  check_error(scene, "solver.divergence_violation_limit: expected a number > 0, got 0");
+}
+
 TEST_CASE("scene parser: integral numbers written as floats are accepted for integers") {
   json scene = minimal_scene();
   scene["frames"] = 240.0;

@@ -81,7 +81,7 @@ namespace {
 
 // Paper 001's fig. 4 column (hyperbolic limits), hit after 5 steps by sinew_stress's
 // perturbed_scenes (every free node moved by 20-50 % of the cell size in a random direction
-// and kicked by up to 3 m/s per axis; its seed for this scene). Then 15 more steps; after the
+// and kicked by up to 3 m/s per axis; the seed it uses for this scene, the 23rd paper scene). Then 15 more steps; after the
 // hit, how many held, their retries, the worst end violation in tolerance units and the
 // fastest node.
 struct HitRun {
@@ -113,20 +113,26 @@ HitRun hit_column(double divergence_limit) {
 }  // namespace
 
 TEST_CASE("step retry: a step that ends far past a tolerance is retried, and the hit column recovers") {
+  // A limit well between the hit's own step (142 tolerances past: the hit moved nodes by up
+  // to half a cell, a transient) and the steps of the runaway (1,003 at the next step, then
+  // 3,218), so that the test does not hang on where the default falls among them.
+  constexpr double kLimit = 400;
   // Without the divergence test the SQP's capped steps were taken as they ended: the column
-  // ran away (past its limits by thousands of tolerances, nodes at km/s).
+  // ran away, nodes at km/s.
   const HitRun taken = hit_column(1e300);
-  CHECK(taken.worst_violation > 1000);
-  CHECK(taken.fastest > 100);
-  // With it (the default limit), every step holds; the step of the hit may end past the
-  // limits (the hit moved nodes by up to half a cell: a transient, under the limit), and
-  // from the next step on the column is within its tolerances again, no node faster than
-  // twice the largest kick.
-  const HitRun guarded = hit_column(SolverDesc{}.divergence_violation_limit);
-  MESSAGE("hit step " << guarded.first_violation << " tolerances past, then at most " << guarded.worst_violation
-                      << "; retries " << guarded.retries << "; fastest " << guarded.fastest << " m/s");
+  MESSAGE("taken: hit step " << taken.first_violation << " tolerances past, then up to " << taken.worst_violation
+                             << ", fastest " << taken.fastest << " m/s");
+  CHECK(taken.first_violation < kLimit);
+  CHECK(taken.worst_violation > kLimit);
+  CHECK(taken.fastest > 2 * stress::perturbed::kKick * std::sqrt(3.0));
+  // With it, every step holds; a step past the limit is retried (afresh: no warm start or
+  // curvature from before the hit), and from the step after the hit's the column is within
+  // its tolerances, no node faster than twice the largest kick.
+  const HitRun guarded = hit_column(kLimit);
+  MESSAGE("guarded: hit step " << guarded.first_violation << ", then up to " << guarded.worst_violation << "; retries "
+                               << guarded.retries << "; fastest " << guarded.fastest << " m/s");
   CHECK(guarded.held == 15);
-  CHECK(guarded.first_violation <= SolverDesc{}.divergence_violation_limit);
+  CHECK(guarded.retries >= 1);
   CHECK(guarded.worst_violation <= 1);
   CHECK(guarded.fastest < 2 * stress::perturbed::kKick * std::sqrt(3.0));
 }
