@@ -28,6 +28,7 @@
 #endif
 
 #include "engine/io/atomic_file.hpp"
+#include "engine/io/stats_summary.hpp"  // quantile
 #include "tools/cli_options.hpp"
 
 using namespace sinew;
@@ -51,12 +52,6 @@ void relax() {
 }
 
 double micro(Clock::duration d) { return std::chrono::duration<double, std::micro>(d).count(); }
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return -1;
-  std::sort(v.begin(), v.end());
-  return v[static_cast<std::size_t>(q * static_cast<double>(v.size() - 1))];
-}
 
 // One round's figures: when another thread first ran a chunk (-1: never), the loop's time.
 struct Round {
@@ -93,8 +88,7 @@ class SpinningHelper {
     m_start = Clock::now();
     m_next.store(0, std::memory_order_release);  // publishes the round
     run_chunks(false);
-    while (m_done.load(std::memory_order_acquire) < kChunks) relax();
-    m_next.store(kChunks, std::memory_order_relaxed);
+    while (m_done.load(std::memory_order_acquire) < kChunks) relax();  // every chunk claimed: m_next >= kChunks
     return {m_first.load(), micro(Clock::now() - m_start)};
   }
 
@@ -131,12 +125,14 @@ nlohmann::json summarize(const char* workers, double gap_us, const std::vector<R
     else joins.push_back(r.join_us);
   }
   const double share_never = static_cast<double>(never) / static_cast<double>(rounds.size());
+  // No loop joined: no latency to report (-1), not quantile's 0 of no samples.
+  const double join_median = joins.empty() ? -1 : quantile(joins, 0.5), join_p90 = joins.empty() ? -1 : quantile(joins, 0.9);
   const double loop = quantile(loops, 0.5);
   std::printf("  %-9s gap %6.0f us: join median %7.1f us, p90 %7.1f us; no join in %4.1f %% of loops; "
               "loop median %6.1f us (%.2fx one thread)\n",
-              workers, gap_us, quantile(joins, 0.5), quantile(joins, 0.9), 100 * share_never, loop, alone_us / loop);
+              workers, gap_us, join_median, join_p90, 100 * share_never, loop, alone_us / loop);
   return {{"workers", workers}, {"gap_us", gap_us}, {"rounds", rounds.size()},
-          {"join_median_us", quantile(joins, 0.5)}, {"join_p90_us", quantile(joins, 0.9)},
+          {"join_median_us", join_median}, {"join_p90_us", join_p90},
           {"share_without_join", share_never}, {"loop_median_us", loop}, {"speedup", alone_us / loop}};
 }
 

@@ -323,7 +323,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     StageTimer timer(profile, Stage::Rows);
     if (!constrained) {
       s.rows.clear();
-      s.step_limit_violation = 0;
       return s.step_violation = 0.0;
     }
     ++profile.work.row_builds;
