@@ -49,8 +49,9 @@ struct StepScratch {
   SparseMatrix newton_A0, newton_H;
   VecX newton_A0_diagonal;  // A0's diagonal, when that is all of A0 (solve_newton)
   VecX newton_x0, newton_b0, newton_predicted_impulse, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
-      negative_gradient;
-  std::vector<double> psi, psi_trial, force2;
+      negative_gradient, dPsi_trial;
+  std::vector<double> psi, psi_trial, force2, force2_trial;
+  std::vector<Vec24> element_gradients;  // hyperelastic_derivatives' per-element gradients
 };
 
 struct State {

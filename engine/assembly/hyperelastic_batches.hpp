@@ -21,9 +21,12 @@ inline bool is_hyperelastic_element(const Model& model, int e) {
 
 // visit(e, nodes, quad, given): given holds F = deformation_gradient(quad.dN_dX[0], nodes) and
 // its SVD for a one-point tet of an invariant material when `projected_hessians`, else null.
+// `shared_writes` false: the visits write per-element results only, and the schedule's blocks
+// run all at once instead of colour by colour.
 template <class Visit>
-void for_each_hyperelastic_element(const Model& model, const VecX& x, bool projected_hessians, const Visit& visit) {
-  for_each_scheduled_block(model.element_schedule, [&](int first, int last) {
+void for_each_hyperelastic_element(const Model& model, const VecX& x, bool projected_hessians, const Visit& visit,
+                                   bool shared_writes = true) {
+  const auto visit_block = [&](int first, int last) {
     for (int group = first; group < last; group += 4) {
       const int count = std::min(4, last - group);
       ElementNodes nodes[4];
@@ -54,7 +57,9 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
         visit(group + k, nodes[k], quads[k], &given);
       }
     }
-  });
+  };
+  if (shared_writes) for_each_scheduled_block(model.element_schedule, visit_block);
+  else for_each_scheduled_block_at_once(model.element_schedule, visit_block);
 }
 
 }  // namespace sinew

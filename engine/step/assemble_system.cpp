@@ -14,18 +14,10 @@ namespace sinew {
 
 namespace {
 
-// Nodes per task of the sums by node (the creature: 3 tasks).
-constexpr int kNodeGrain = 256;
-
-// Calls sum(n, first, last) for every node n, in parallel, with [first, last) its entries in
-// model.node_elements: each node's terms then come in element order, as from one thread
-// looping over the elements (the same bits for any thread count).
+// The sums by node over the model's incidence (node_elements.hpp).
 template <typename Sum>
 void sum_by_node(const Model& model, const Sum& sum) {
-  const NodeElements& incidence = model.node_elements;
-  tbb::parallel_for(tbb::blocked_range<int>(0, model.num_nodes, kNodeGrain), [&](const tbb::blocked_range<int>& range) {
-    for (int n = range.begin(); n != range.end(); ++n) sum(n, incidence.begin[n], incidence.begin[n + 1]);
-  });
+  sinew::sum_by_node(model.node_elements, sum);
 }
 
 // Whether assemble_system must leave the matrix: solve_newton starts from it, and PCG

@@ -1,5 +1,3 @@
-#include <tbb/parallel_for.h>
-
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -40,29 +38,23 @@ void gather_free(const Model& model, const VecX& full, VecX& free) {
     if (const int f = model.free_index[n]; f >= 0) free.segment<3>(3 * f) = full.segment<3>(3 * n);
 }
 
-// Per-element hyperelastic energies at x (+infinity where undefined; 0 for linear elements).
-void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double>& energy) {
-  energy.assign(model.num_elements, 0.0);
-  tbb::parallel_for(0, model.num_elements, [&](int e) {
-    if (!is_hyperelastic_element(model, e)) return;
-    energy[e] = hyperelastic_element_energy(*model.bodies[model.element_body[e]].hyperelastic,
-                                            element_quadrature(model, e), gather_element_nodes(model, x, e));
-  });
-}
-
 // Per-element energies and squared force norms |dPsi_e/dx|^2, the gradient over free DOFs
 // (dPsi/dx, free nodes only) and, if `values` is not null, h^2 times the element Hessians
 // (projected, or exact if `exact`) scattered into a matrix of the system pattern.
+// The elements' gradients go to `element_gradients` and are summed by node afterwards
+// (node_elements.hpp: each node's in element order), so that without `values` nothing is
+// shared between elements and the blocks run all at once, not colour by colour: the pass
+// of the line search's trials, the same bits as the assembly's.
 void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
-                              std::vector<double>& force2, VecX& gradient, double* values) {
-  gradient.setZero(3 * model.num_free);
+                              std::vector<double>& force2, VecX& gradient, double* values,
+                              std::vector<Vec24>& element_gradients) {
   energy.assign(model.num_elements, 0.0);
   force2.assign(model.num_elements, 0.0);
-  // g over the element's `count` nodes (a Vec24 is zero past them).
-  const auto add_gradient = [&](int e, int count, const auto& g) {
+  element_gradients.resize(model.num_elements);
+  // g over the element's `count` nodes.
+  const auto keep_gradient = [&](int e, int count, const auto& g) {
     force2[e] = g.squaredNorm();
-    for (int a = 0; a < count; ++a)
-      if (const int f = model.free_index[model.element_nodes[e][a]]; f >= 0) gradient.segment<3>(3 * f) += g.template segment<3>(3 * a);
+    element_gradients[e].head(3 * count) = g.head(3 * count);
   };
   // given: F and its SVD, for a tet whose projected Hessian is wanted (from the batch below), or null.
   const auto visit = [&](int e, const ElementNodes& nodes, const ElementQuadrature& quad,
@@ -74,7 +66,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
       Mat12 K;
       energy[e] = values && exact ? hyperelastic_tet_exact_derivatives(material, quad, nodes, g, K)
                                   : hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr, given);
-      add_gradient(e, 4, g);
+      keep_gradient(e, 4, g);
       if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
       return;
     }
@@ -82,11 +74,22 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     Mat24 K;
     energy[e] = values && exact ? hyperelastic_element_exact_derivatives(material, quad, nodes, g, K)
                                 : hyperelastic_element_derivatives(material, quad, nodes, g, values ? &K : nullptr);
-    add_gradient(e, nodes.count, g);
+    keep_gradient(e, nodes.count, g);
     if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
   };
   // The projected tet Hessians' SVDs four at a time (hyperelastic_batches.hpp).
-  for_each_hyperelastic_element(model, x, values && !exact, visit);
+  for_each_hyperelastic_element(model, x, values && !exact, visit, values != nullptr);
+  // A free node's elements are all of its body, hyperelastic or not alike, and awake.
+  gradient.resize(3 * model.num_free);
+  const auto& entries = model.node_elements.entries;
+  sum_by_node(model.node_elements, [&](int n, int first, int last) {
+    const int f = model.free_index[n];
+    if (f < 0) return;
+    Vec3 sum = Vec3::Zero();
+    if (first < last && is_hyperelastic_element(model, entries[first].first))
+      for (int k = first; k < last; ++k) sum += element_gradients[entries[k].first].segment<3>(3 * entries[k].second);
+    gradient.segment<3>(3 * f) = sum;
+  });
 }
 
 // Round-off of a change of Psi computed as sum_e (Psi_e(x') - Psi_e(x)): each energy
@@ -186,8 +189,14 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   for (const Body& body : model.bodies) hyperelastic_elements += body.hyperelastic ? body.num_elements() : 0;
   VecX &v = scratch.newton_v, &x = scratch.newton_x, &dPsi = scratch.dPsi, &gradient = scratch.gradient;
   VecX &quadratic_gradient = scratch.quadratic_gradient, &direction = scratch.direction, &trial = scratch.trial;
-  VecX &A0_direction = scratch.A0_direction;
+  VecX &A0_direction = scratch.A0_direction, &dPsi_trial = scratch.dPsi_trial;
   std::vector<double> &psi = scratch.psi, &psi_trial = scratch.psi_trial, &force2 = scratch.force2;
+  std::vector<double>& force2_trial = scratch.force2_trial;
+  // The line search evaluates energies and gradient at its trials: the accepted trial then
+  // needs no second pass over the elements for the next iteration's residual, and a last
+  // iterate (converged, or at the cap) none at all (one Newton iteration a step assembled
+  // the gradient again after its line search).
+  bool derivatives_at_v = false;  // psi, force2 and dPsi are those at v, from the line search
   gather_free(model, state.v, v);
   state.v_start = v;
 
@@ -241,7 +250,8 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       H = A0;
       hessian_in_system = false;
     }
-    hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, with_hessian ? H.valuePtr() : nullptr);
+    hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, with_hessian ? H.valuePtr() : nullptr,
+                             scratch.element_gradients);
     state.profile.work.elements += hyperelastic_elements;
   };
   for (;; ++newton) {
@@ -249,7 +259,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // factorisation is already there: its Hessian would go unused (one Newton iteration
     // per step assembled it twice).
     const int newton_cap = IterationCaps::effective(cfg.newton_max_iterations, state.caps.newton);
-    assemble(!(newton == newton_cap && factorised));
+    if (!derivatives_at_v) assemble(!(newton == newton_cap && factorised));
     // Undefined energy (an inverted neo_hookean element) at the warm start: start from the
     // positions of the step's start instead (v = 0); if the energy is undefined there too,
     // the step has no incremental potential to minimise and fails.
@@ -296,6 +306,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       }
       break;
     }
+    // The Hessian at v (with its energies and gradient again: the same bits as the trial's).
+    if (derivatives_at_v) assemble();
+    derivatives_at_v = false;
     bool usable = factorize();
     double slope = 0;
     if (usable) {
@@ -355,7 +368,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     auto change_at = [&](double a) {
       trial = v + a * direction;
       positions_at(model, t_end, x0, trial, x);
-      hyperelastic_energies(model, x, psi_trial);
+      hyperelastic_derivatives(model, x, false, psi_trial, force2_trial, dPsi_trial, nullptr, scratch.element_gradients);
       state.profile.work.elements += hyperelastic_elements;
       double change = a * linear_term + 0.5 * a * a * curvature;
       for (int e = 0; e < model.num_elements; ++e) change += psi_trial[e] - psi[e];  // fixed order
@@ -374,7 +387,15 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     }
     exact_steps += exact;  // this direction came from the exact Hessian and is taken
     exact = alpha == 1 && trusted;
-    v += alpha * direction;
+    if (-slope > noise) {  // the last trial is the accepted one: v and its derivatives
+      v.swap(trial);
+      psi.swap(psi_trial);
+      force2.swap(force2_trial);
+      dPsi.swap(dPsi_trial);
+      derivatives_at_v = true;
+    } else {
+      v += alpha * direction;
+    }
   }
   if (!ok) state.system = A0;  // the matrix (its pattern) for the caller's retry
   // The quadratic model around v that solve_constraints continues from.
