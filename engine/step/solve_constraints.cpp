@@ -481,7 +481,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     const Eigen::Map<const VecX> lambda0(s.rows.lambda.data(), m);
     // The first QP after the Newton predictor: when the predictor's force is J^T lambda_0 of
     // these very rows, bit for bit (contacts on a plane, held at rest), r = -J^T lambda_0 - e
-    // at Newton's result, e Newton's CG residual (below pcg_tolerance of the step's scale), so
+    // at Newton's result, e the round-off of H v (solve_newton's model leaves out what Newton
+    // left of its gradient), so
     // v = v_k + H^-1 (r + J^T lambda) = v_k + H^-1 J^T (lambda - lambda_0) - H^-1 e and the LCP
     // is C/h + W (lambda - lambda_0) >= 0 (e left out of it): c = C/h - W lambda_0 from the W
     // PGS uses, no solve and no W lambda_0 correction (an approximate W's cancels), then one

@@ -135,11 +135,12 @@ double energy_noise(const Model& model) {
 // for the rest of the step if the exact system cannot be factorised, gives no descent
 // direction, or its full step is rejected by the line search.
 //
-// On exit the system and rhs describe the quadratic model of Phi around the result, so
+// On exit the system and rhs describe a quadratic model whose minimiser is the result, so
 // solve_constraints treats it like the linear path's v*: state.system = the last Hessian
-// (factorised), rhs = H v - grad Phi. With the predictor (below) the result is not that
-// model's minimiser (grad Phi = J^T lambda there), and solve_constraints starts its first QP
-// with the model's own Newton step.
+// (factorised), rhs = H v (Newton's remaining gradient dropped, see the end). With the
+// predictor (below) the model is of Phi itself at the predicted force, H v - rhs = J^T
+// lambda_0: the result is not its minimiser, and solve_constraints starts its first QP with
+// the model's own Newton step.
 bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const SolverDesc& cfg = model.solver;
   const double t_end = state.t + model.h;
@@ -398,12 +399,18 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     }
   }
   if (!ok) state.system = A0;  // the matrix (its pattern) for the caller's retry
-  // The quadratic model around v that solve_constraints continues from.
+  // The quadratic model that solve_constraints continues from: H around v, with v as its
+  // minimiser (H v - rhs = 0), or with the predictor as the Lagrangian's stationary point at
+  // the predicted force (H v - rhs = J^T lambda_0, the force the QP must find again). What
+  // Newton left of its gradient is dropped, as it is when no row is active and v ends the
+  // step: kept, it made the SQP's first step from v the model's whole Newton step, never
+  // line-searched on Phi, wherever a single row was active. With one Newton iteration per
+  // step that step is where the Hessian at the start mispredicts the gradient most: a
+  // Stable Neo-Hookean bunny_5 dropped from 0.5 m had its nodes pushed to 5 km/s by it at
+  // its landing (docs/ARCHITECTURE.md, stage 2-3').
   if (ok) {
     multiply_system(state.system, v, state.rhs);
-    state.rhs -= gradient;
-    if (state.impulse_predicted) state.rhs -= predicted;  // the model of Phi itself: its gradient at v is
-                                                          // H v - rhs = grad Phi, not the Lagrangian's
+    if (state.impulse_predicted) state.rhs -= predicted;
     state.v_free = v;
     for (int n = 0; n < model.num_nodes; ++n) {
       const int f = model.free_index[n];
