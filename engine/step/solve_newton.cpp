@@ -47,14 +47,19 @@ void gather_free(const Model& model, const VecX& full, VecX& free) {
 // of the line search's trials, the same bits as the assembly's.
 void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
                               std::vector<double>& force2, VecX& gradient, double* values,
-                              std::vector<Vec24>& element_gradients) {
+                              std::vector<double>& element_gradients) {
   energy.assign(model.num_elements, 0.0);
   force2.assign(model.num_elements, 0.0);
-  element_gradients.resize(model.num_elements);
+  // 12 entries an element where every element is a tet, else 24 (a scan of 5-13 k types
+  // against passes of ~0.4 ms).
+  const bool all_tets = std::none_of(model.element_type.begin(), model.element_type.end(),
+                                     [](ElementType t) { return t == ElementType::Hex8; });
+  const int stride = all_tets ? 12 : 24;
+  element_gradients.resize(static_cast<size_t>(stride) * model.num_elements);
   // g over the element's `count` nodes.
   const auto keep_gradient = [&](int e, int count, const auto& g) {
     force2[e] = g.squaredNorm();
-    element_gradients[e].head(3 * count) = g.head(3 * count);
+    Eigen::Map<VecX>(element_gradients.data() + static_cast<size_t>(stride) * e, 3 * count) = g.head(3 * count);
   };
   // given: F and its SVD, for a tet whose projected Hessian is wanted (from the batch below), or null.
   const auto visit = [&](int e, const ElementNodes& nodes, const ElementQuadrature& quad,
@@ -87,7 +92,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     if (f < 0) return;
     Vec3 sum = Vec3::Zero();
     if (first < last && is_hyperelastic_element(model, entries[first].first))
-      for (int k = first; k < last; ++k) sum += element_gradients[entries[k].first].segment<3>(3 * entries[k].second);
+      for (int k = first; k < last; ++k) sum += Eigen::Map<const Vec3>(element_gradients.data() + static_cast<size_t>(stride) * entries[k].first + 3 * entries[k].second);
     gradient.segment<3>(3 * f) = sum;
   });
 }
@@ -135,12 +140,17 @@ double energy_noise(const Model& model) {
 // for the rest of the step if the exact system cannot be factorised, gives no descent
 // direction, or its full step is rejected by the line search.
 //
-// On exit the system and rhs describe a quadratic model whose minimiser is the result, so
+// On exit the system and rhs describe a quadratic model around the result, so
 // solve_constraints treats it like the linear path's v*: state.system = the last Hessian
-// (factorised), rhs = H v (Newton's remaining gradient dropped, see the end). With the
-// predictor (below) the model is of Phi itself at the predicted force, H v - rhs = J^T
-// lambda_0: the result is not its minimiser, and solve_constraints starts its first QP with
-// the model's own Newton step.
+// (factorised), rhs = H v - grad Phi, or H v where Newton left a large gradient (see the
+// end). With the predictor (below) the result is not that model's minimiser (its gradient
+// there holds J^T lambda_0), and solve_constraints starts its first QP with the model's own
+// Newton step.
+// Newton's remaining gradient, relative to the step's scale, up to which the model handed to
+// the constraint stage keeps it (the end of solve_newton): the forcing term its inexact
+// solves are held to.
+constexpr double kTrustedResidual = 0.1;
+
 bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const SolverDesc& cfg = model.solver;
   const double t_end = state.t + model.h;
@@ -399,17 +409,20 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     }
   }
   if (!ok) state.system = A0;  // the matrix (its pattern) for the caller's retry
-  // The quadratic model that solve_constraints continues from: H around v, with v as its
-  // minimiser (H v - rhs = 0), or with the predictor as the Lagrangian's stationary point at
-  // the predicted force (H v - rhs = J^T lambda_0, the force the QP must find again). What
-  // Newton left of its gradient is dropped, as it is when no row is active and v ends the
-  // step: kept, it made the SQP's first step from v the model's whole Newton step, never
-  // line-searched on Phi, wherever a single row was active. With one Newton iteration per
-  // step that step is where the Hessian at the start mispredicts the gradient most: a
-  // Stable Neo-Hookean bunny_5 dropped from 0.5 m had its nodes pushed to 5 km/s by it at
-  // its landing (docs/ARCHITECTURE.md, stage 2-3').
+  // The quadratic model that solve_constraints continues from: H around v, of Phi itself
+  // (H v - rhs = grad Phi) when Newton brought its gradient within kTrustedResidual of the
+  // step's scale; else with v as its minimiser (H v - rhs = 0), or with the predictor the
+  // Lagrangian's stationary point at the predicted force (H v - rhs = J^T lambda_0, the force
+  // the QP must find again), as when no row is active and v ends the step. Kept whole, a
+  // large remaining gradient made the SQP's first step from v the model's whole Newton step,
+  // never line-searched on Phi, wherever a single row was active: with one Newton iteration
+  // a step, where the Hessian at the step's start mispredicts the gradient most, a Stable
+  // Neo-Hookean bunny_5 dropped from 0.5 m had nodes pushed to 5 km/s at its landing
+  // (docs/ARCHITECTURE.md, stage 2-3'). Below it the remaining step is small beside the one
+  // taken, and keeping it refines the result (a resting body's constrained steps).
   if (ok) {
     multiply_system(state.system, v, state.rhs);
+    if (gradient.norm() <= kTrustedResidual * first_norm) state.rhs -= gradient;
     if (state.impulse_predicted) state.rhs -= predicted;
     state.v_free = v;
     for (int n = 0; n < model.num_nodes; ++n) {
