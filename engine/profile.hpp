@@ -29,7 +29,7 @@ constexpr bool is_constraint_stage(Stage s) { return s >= Stage::Rows && s <= St
 // Work a step did, counted rather than timed, so that two runs compare on any machine (tests
 // assert on these, never on time). Not written to the stats file.
 struct StepWork {
-  long elements = 0;        // element evaluations: assembly, Newton derivatives, line-search energies
+  long elements = 0;        // element evaluations: assembly, Newton derivatives, line-search trials
   long rows = 0;            // constraint rows built, over all SQP iterations
   long row_builds = 0;      // row tables built: SQP iterates and line-search trials (not in total())
   long factorizations = 0;  // numeric factorisations (or PCG preconditioner setups)

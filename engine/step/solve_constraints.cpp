@@ -397,9 +397,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // when there are no rows at all (the QP from v* would be the step d = 0). Never after the
     // Newton predictor: v* holds the last step's constraint force, which only a QP may keep.
     const bool no_rows = s.rows.size() == 0;
-    // Whether v_k is the quadratic model's minimiser (v*, residual r = 0): the first QP's,
-    // unless Newton took the predictor's force, which leaves r = -J^T lambda_0 there. Every
-    // other QP starts from the model's Newton step H^-1 r at v_k.
+    // Whether v_k is taken as the quadratic model's minimiser (v*, residual r = 0, or what
+    // Newton left of its gradient when solve_newton kept it, within a tenth of the step's
+    // scale, left to the next iterations): the first QP's, unless Newton took the
+    // predictor's force, which leaves r = -J^T lambda_0 there. Every other QP starts from the
+    // model's Newton step H^-1 r at v_k.
     const bool at_minimiser = k == 0 && !predicted;
     if (at_minimiser && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
@@ -481,8 +483,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     const Eigen::Map<const VecX> lambda0(s.rows.lambda.data(), m);
     // The first QP after the Newton predictor: when the predictor's force is J^T lambda_0 of
     // these very rows, bit for bit (contacts on a plane, held at rest), r = -J^T lambda_0 - e
-    // at Newton's result, e the round-off of H v (solve_newton's model leaves out what Newton
-    // left of its gradient), so
+    // at Newton's result, e what Newton left of its gradient when solve_newton's model keeps
+    // it (within a tenth of the step's scale), else the round-off of H v, so
     // v = v_k + H^-1 (r + J^T lambda) = v_k + H^-1 J^T (lambda - lambda_0) - H^-1 e and the LCP
     // is C/h + W (lambda - lambda_0) >= 0 (e left out of it): c = C/h - W lambda_0 from the W
     // PGS uses, no solve and no W lambda_0 correction (an approximate W's cancels), then one
