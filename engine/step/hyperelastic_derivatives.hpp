@@ -1,0 +1,23 @@
+#pragma once
+// The hyperelastic elements' part of Newton's incremental potential (solve_newton.cpp) in one
+// pass over the element schedule: energies, gradient and, when asked, Hessians. Its own file
+// so that sinew_bench_assembly can time the pass alone.
+#include <vector>
+
+#include "engine/core/types.hpp"
+#include "engine/model.hpp"
+
+namespace sinew {
+
+// Per-element energies and squared force norms |dPsi_e/dx|^2, the gradient over free DOFs
+// (dPsi/dx, free nodes only) and, if `values` is not null, h^2 times the element Hessians
+// (projected, or exact if `exact`) scattered into a matrix of the system pattern.
+// The elements' gradients go to `element_gradients` and are summed by node afterwards
+// (node_elements.hpp: each node's in element order), so that without `values` nothing is
+// shared between elements and the blocks run all at once, not colour by colour: the pass
+// of the line search's trials, the same bits as the assembly's.
+void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
+                              std::vector<double>& force2, VecX& gradient, double* values,
+                              std::vector<Vec24>& element_gradients);
+
+}  // namespace sinew
