@@ -233,6 +233,7 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
         Mat83 padded = Mat83::Zero();
         padded.topRows<4>() = model.tet_references.back().dN_dX;
         model.tet_gradients.push_back(padded);
+        model.tet_volumes.push_back(model.tet_references.back().volume);
         volume = model.tet_references.back().volume;
         reference = static_cast<int>(model.tet_references.size()) - 1;
       }

@@ -73,6 +73,9 @@ struct Model {
   std::vector<Hex8Reference> references;       // hex8: one per (cell size, material)
   std::vector<Tet4Reference> tet_references;   // tet4: one per element
   std::vector<Mat83> tet_gradients;            // tet4: dN/dX padded to 8 rows (hyperelastic path)
+  // tet4: rest volumes, beside tet_references[i].volume: the hyperelastic passes read them
+  // per tet, and a reference is 1.6 kB (a cache line and often a page a tet).
+  std::vector<double> tet_volumes;
   std::vector<ObstacleDesc> obstacles;
   SolverDesc solver;
   Vec3 gravity = Vec3::Zero();

@@ -102,8 +102,8 @@ ElementQuadrature element_quadrature(const Model& model, int e) {
     const Hex8Reference& ref = hex_ref(model, e);
     return {8, ref.dN_dX.data(), ref.det_dXds, model.bodies[model.element_body[e]].material.mean_dilatation};
   }
-  const Tet4Reference& ref = tet_ref(model, e);
-  return {1, &model.tet_gradients[model.element_reference[e]], ref.volume};
+  const int reference = model.element_reference[e];
+  return {1, &model.tet_gradients[reference], model.tet_volumes[reference]};
 }
 
 }  // namespace sinew

@@ -6,6 +6,7 @@
 
 #include "engine/assembly/invariant_tet_hessian.hpp"
 #include "engine/assembly/mean_dilatation_element.hpp"
+#include "engine/assembly/tet_hessian_scatter.hpp"
 #include "engine/materials/invariant_material.hpp"
 
 namespace sinew {
@@ -22,8 +23,9 @@ namespace {
 // zero: node 0's blocks are minus the sums of the others', K_0b = -sum_a K_ab and
 // K_00 = -sum_b K_0b, so only the 3 x 3 congruence K_ab = sum_j dN_a,j T_jb, T_jb = w sum_m dN_b,m H_jm, over nodes 1-3 is
 // formed: ~880 flops instead of ~1190 (the bunny's assembly: 205 -> ~150 ns a tet).
-template <class Matrix>
-void add_tet_point_hessian_to(const Mat83& dN, const Mat9& H, double w, Matrix& hessian) {
+// hessian: a matrix of 12 rows or more, or a TetHessianScatter.
+template <class Sink>
+void add_tet_point_hessian_to(const Mat83& dN, const Mat9& H, double w, Sink& hessian) {
   Mat3 T[3][3];  // T[j][b - 1]
   for (int b = 1; b < 4; ++b) {
     const double d0 = w * dN(b, 0), d1 = w * dN(b, 1), d2 = w * dN(b, 2);
@@ -38,13 +40,7 @@ void add_tet_point_hessian_to(const Mat83& dN, const Mat9& H, double w, Matrix& 
     }
   Mat3 K0[3];  // K_0b, b = 1-3
   for (int b = 0; b < 3; ++b) K0[b] = -(K[0][b] + K[1][b] + K[2][b]);
-  const Mat3 K00 = -(K0[0] + K0[1] + K0[2]);
-  hessian.template block<3, 3>(0, 0) += K00;
-  for (int b = 0; b < 3; ++b) {
-    hessian.template block<3, 3>(0, 3 * b + 3) += K0[b];
-    hessian.template block<3, 3>(3 * b + 3, 0) += K0[b].transpose();
-    for (int a = 0; a < 3; ++a) hessian.template block<3, 3>(3 * a + 3, 3 * b + 3) += K[a][b];
-  }
+  add_tet_blocks(K, K0, hessian);
 }
 
 // hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm, where H_jm is the 3x3 block of H that
@@ -92,8 +88,13 @@ double hyperelastic_element_energy(const Material& material, const ElementQuadra
 
 namespace {
 
+// Whether a Hessian goes straight into the system's values (tet_hessian_scatter.hpp).
+template <class Matrix>
+constexpr bool kScatters = std::is_same_v<std::remove_const_t<Matrix>, TetHessianScatter>;
+
 // One point's energy (+infinity where undefined), PK1 and (if hessian) Hessian, projected
 // unless `exact` and defined, added times w; an invariant material's terms taken once.
+// A TetHessianScatter takes a tet's (n = 4) only.
 template <class Matrix>
 double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n, double w, Mat3& P,
                  Matrix* hessian, bool exact, const RotationVariantSvd* svd) {
@@ -101,14 +102,18 @@ double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n
   const InvariantMaterial* invariant = material.as_invariant();
   if (!invariant) {
     P = material.pk1(F);
-    if (hessian) add_point_hessian(dN, n, exact && defined ? material.hessian(F) : material.projected_hessian(F), w, *hessian);
+    if (hessian) {
+      const Mat9 H = exact && defined ? material.hessian(F) : material.projected_hessian(F);
+      if constexpr (kScatters<Matrix>) add_tet_point_hessian_to(dN, H, w, *hessian);
+      else add_point_hessian(dN, n, H, w, *hessian);
+    }
     return defined ? w * material.energy(F) : std::numeric_limits<double>::infinity();
   }
   const InvariantTerms t = invariant->terms(F.squaredNorm(), F.determinant());
   P = invariant_pk1(F, t);
   const bool project = !(exact && defined);
   if (hessian && n == 4) {
-    if constexpr (std::is_same_v<Matrix, Mat12>) {
+    if constexpr (std::is_same_v<Matrix, Mat12> || kScatters<Matrix>) {
       add_invariant_tet_hessian(F, t, project, dN, w, *hessian, svd);
     } else {  // the padded path: the same entries, bit for bit (a tet has one point)
       Mat12 K = Mat12::Zero();
@@ -116,7 +121,8 @@ double add_point(const Material& material, const Mat3& F, const Mat83& dN, int n
       hessian->template topLeftCorner<12, 12>() += K;
     }
   } else if (hessian) {
-    add_point_hessian(dN, n, project ? invariant_projected_hessian(F, t) : invariant_hessian(F, t), w, *hessian);
+    if constexpr (!kScatters<Matrix>)
+      add_point_hessian(dN, n, project ? invariant_projected_hessian(F, t) : invariant_hessian(F, t), w, *hessian);
   }
   return defined ? w * t.psi : std::numeric_limits<double>::infinity();
 }
@@ -132,7 +138,8 @@ double sum_over_points(const Material& material, const ElementQuadrature& quad, 
   if (quad.points != 1) given = nullptr;
   double energy = 0;
   gradient.setZero();
-  if (hessian) hessian->setZero();
+  if constexpr (!kScatters<Matrix>)
+    if (hessian) hessian->setZero();
   const int n = nodes.count;
   for (int q = 0; q < quad.points; ++q) {
     const Mat83& dN = quad.dN_dX[q];
@@ -167,6 +174,12 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian,
                                     const GivenDeformation* given) {
   return sum_over_points(material, quad, nodes, gradient, hessian, false, given);
+}
+
+double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
+                                    const ElementNodes& nodes, Vec12& gradient, const TetHessianScatter& hessian,
+                                    const GivenDeformation* given) {
+  return sum_over_points(material, quad, nodes, gradient, &hessian, false, given);
 }
 
 double hyperelastic_element_exact_derivatives(const Material& material, const ElementQuadrature& quad,

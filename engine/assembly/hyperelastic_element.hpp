@@ -8,6 +8,7 @@
 // B(i + 3j, 3a + i) = dN_a,j. Results are padded to 8 nodes like element_kernels.hpp.
 // A quadrature with mean_dilatation set goes to mean_dilatation_element.hpp instead.
 #include "engine/assembly/element_kernels.hpp"
+#include "engine/assembly/tet_hessian_scatter.hpp"
 #include "engine/math/rotation_variant_svd.hpp"
 
 namespace sinew {
@@ -41,6 +42,12 @@ struct GivenDeformation {
 };
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian,
+                                    const GivenDeformation* given = nullptr);
+// The same with the projected Hessian added straight into a system matrix's values (the
+// assembly's path: no 12 x 12 matrix formed and scattered; the same values bit for bit as
+// scatter_element_matrix of the matrix above).
+double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
+                                    const ElementNodes& nodes, Vec12& gradient, const TetHessianScatter& hessian,
                                     const GivenDeformation* given = nullptr);
 
 // The same with the exact Hessian d2Psi/dF2 (not projected; Newton near convergence), or the

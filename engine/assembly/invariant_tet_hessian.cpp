@@ -6,8 +6,11 @@
 
 namespace sinew {
 
-void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
-                               Mat12& hessian, const RotationVariantSvd* svd) {
+namespace {
+
+template <class Sink>
+void add_invariant_tet_hessian_to(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
+                                  Sink& hessian, const RotationVariantSvd* svd) {
   NegativeModes modes;
   const int mode_count = project ? negative_modes(invariant_eigensystem(F, t, svd), modes) : 0;
   const Mat3 cofactor = cofactor_matrix(F);
@@ -33,12 +36,19 @@ void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool proj
   // dN_0 = -(dN_1 + dN_2 + dN_3), and every term is bilinear in (dN_a, dN_b): K_0b = -sum_a K_ab.
   Mat3 K0[3];
   for (int b = 0; b < 3; ++b) K0[b] = -(K[0][b] + K[1][b] + K[2][b]);
-  hessian.block<3, 3>(0, 0) -= K0[0] + K0[1] + K0[2];
-  for (int b = 0; b < 3; ++b) {
-    hessian.block<3, 3>(0, 3 * b + 3) += K0[b];
-    hessian.block<3, 3>(3 * b + 3, 0) += K0[b].transpose();
-    for (int a = 0; a < 3; ++a) hessian.block<3, 3>(3 * a + 3, 3 * b + 3) += K[a][b];
-  }
+  add_tet_blocks(K, K0, hessian);
+}
+
+}  // namespace
+
+void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
+                               Mat12& hessian, const RotationVariantSvd* svd) {
+  add_invariant_tet_hessian_to(F, t, project, dN, w, hessian, svd);
+}
+
+void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
+                               const TetHessianScatter& hessian, const RotationVariantSvd* svd) {
+  add_invariant_tet_hessian_to(F, t, project, dN, w, hessian, svd);
 }
 
 }  // namespace sinew

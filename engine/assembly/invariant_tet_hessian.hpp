@@ -9,6 +9,7 @@
 // with u_a = F dN_a, z_a = cof(F) dN_a, p_ma = Q_m dN_a and [v]x the cross-product matrix
 // (the 3 x 3 block (j, m) of H_J is -sum_k eps_jmk [f_k]x, f_k the columns of F). About
 // 700 flops against 1,500 for H and the general congruence (add_point_hessian).
+#include "engine/assembly/tet_hessian_scatter.hpp"
 #include "engine/fem/hex8.hpp"
 #include "engine/fem/tet4.hpp"
 #include "engine/materials/invariant_material.hpp"
@@ -21,5 +22,8 @@ namespace sinew {
 // svd: F's, when the caller has it (invariant_eigensystem).
 void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
                                Mat12& hessian, const RotationVariantSvd* svd = nullptr);
+// The same added straight into a system matrix's values (tet_hessian_scatter.hpp).
+void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
+                               const TetHessianScatter& hessian, const RotationVariantSvd* svd = nullptr);
 
 }  // namespace sinew

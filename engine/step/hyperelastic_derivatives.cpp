@@ -25,11 +25,18 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     // Tets in 12 x 12, with the projected or (Newton near convergence) the exact Hessian.
     if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
-      Mat12 K;
-      energy[e] = values && exact ? hyperelastic_tet_exact_derivatives(material, quad, nodes, g, K)
-                                  : hyperelastic_tet_derivatives(material, quad, nodes, g, values ? &K : nullptr, given);
+      if (values && exact) {
+        Mat12 K;
+        energy[e] = hyperelastic_tet_exact_derivatives(material, quad, nodes, g, K);
+        scatter_element_matrix(model, e, K, model.h * model.h, values);
+      } else if (values) {  // projected: added straight into the values (tet_hessian_scatter.hpp)
+        const TetHessianScatter scatter{model.pattern.element_scatter.data() + model.pattern.scatter_begin[e],
+                                        model.h * model.h, values};
+        energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, scatter, given);
+      } else {
+        energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, nullptr, given);
+      }
       keep_gradient(e, 4, g);
-      if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
       return;
     }
     Vec24 g;

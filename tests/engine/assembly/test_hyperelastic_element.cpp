@@ -155,7 +155,7 @@ TEST_CASE("hyperelastic element: tet4 Hessian = FD of the gradient, padding zero
   CHECK((K12 - K12.transpose()).norm() <= 1e-12 * K12.norm());
 }
 
-TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit for bit, also from a given SVD") {
+TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit for bit, also from a given SVD and scattered") {
   // Same sums in the same order (hyperelastic_element.hpp), on tets stretched, compressed,
   // sheared and inverted (J < 0, where the projection removes modes), for two materials.
   const TetFixture t;
@@ -194,6 +194,28 @@ TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit 
       CHECK(((e_svd == e12) || (std::isinf(e_svd) && std::isinf(e12))));
       CHECK(g_svd == g12);
       CHECK(K_svd == K12);
+      // Straight into a system's values (the assembly's path): a dense 12 x 12 column-major
+      // "system" with node 2 fixed (its blocks have no positions), holding earlier sums.
+      // Each value gets base + coeff * K12 entry, as scatter_element_matrix would add it.
+      int positions[48];
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          for (int d = 0; d < 3; ++d)
+            positions[3 * (4 * a + b) + d] = a == 2 || b == 2 ? -1 : (3 * b + d) * 12 + 3 * a;
+      Mat12 values = Mat12::Constant(0.25);
+      values(5, 7) = 0;  // a +0 entry, as off the diagonal of a fresh system
+      const Mat12 base = values;
+      const double coeff = 1.0 / 3600;
+      Vec12 g_scatter;
+      const double e_scatter = hyperelastic_tet_derivatives(*material, quad, nodes, g_scatter,
+                                                            TetHessianScatter{positions, coeff, values.data()}, &given);
+      CHECK(((e_scatter == e12) || (std::isinf(e_scatter) && std::isinf(e12))));
+      CHECK(g_scatter == g12);
+      for (int r = 0; r < 12; ++r)
+        for (int c = 0; c < 12; ++c) {
+          const bool fixed = r / 3 == 2 || c / 3 == 2;
+          CHECK(values(r, c) == (fixed ? base(r, c) : base(r, c) + coeff * K12(r, c)));
+        }
     }
     REQUIRE(inverted > 0);  // the inverted branch was exercised
   }
