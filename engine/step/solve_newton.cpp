@@ -123,6 +123,25 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     if (A0_is_diagonal) multiply_diagonal(A0_diagonal, in, out);
     else multiply_system(A0, in, out);  // in parallel: Eigen's product is one thread
   };
+  // H = A0 before the Hessians are added. Every matrix of a step has the model's one pattern
+  // (SystemPattern), so once H holds it only the values are written: with A0 diagonal, zeros
+  // and that diagonal (A0's other entries are +0: the same bits); else A0's values. A whole
+  // copy moved 2.3 MB a step on bunny_5 (values, row indices, column starts).
+  const auto start_from_A0 = [&](SparseMatrix& to) {
+    if (to.rows() != A0.rows() || to.nonZeros() != A0.nonZeros() || !to.isCompressed()) {
+      to = A0;
+      return;
+    }
+    assert(std::equal(A0.innerIndexPtr(), A0.innerIndexPtr() + A0.nonZeros(), to.innerIndexPtr()));
+    assert(std::equal(A0.outerIndexPtr(), A0.outerIndexPtr() + A0.outerSize() + 1, to.outerIndexPtr()));
+    double* values = to.valuePtr();
+    if (!A0_is_diagonal) {
+      std::copy(A0.valuePtr(), A0.valuePtr() + A0.nonZeros(), values);
+      return;
+    }
+    std::fill_n(values, A0.nonZeros(), 0.0);
+    for (int i = 0; i < 3 * model.num_free; ++i) values[model.pattern.diagonal[i]] = A0_diagonal[i];
+  };
   const VecX& b0 = scratch.newton_b0 = state.rhs;
   // Predictor (solver.newton_predictor "impulse"): the last step's constraint impulse
   // J^T lambda joins b0 as a fixed force, so Newton minimises the Lagrangian at the last
@@ -201,7 +220,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     positions_at(model, t_end, x0, v, x);
     StageTimer timer(state.profile, Stage::Assemble);
     if (with_hessian) {
-      H = A0;
+      start_from_A0(H);
       hessian_in_system = false;
     }
     hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, with_hessian ? H.valuePtr() : nullptr,
