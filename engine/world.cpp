@@ -57,6 +57,11 @@ void World::apply_sleeping_set() {
   s.factor_rotations.clear();
   s.touched_inverse.reset(model.num_free);
   s.row_columns.reset();
+  // Newton's kept matrices are of the old pattern, and its start_from_A0 writes values alone
+  // into a matrix of the step's size and entry count: dropped, so the next Newton step copies
+  // the new pattern whole (two awake sets of equal size and count would otherwise mix).
+  s.scratch.newton_A0 = SparseMatrix();
+  s.scratch.newton_H = SparseMatrix();
   m_solver.reset_pattern();
 }
 

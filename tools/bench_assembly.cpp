@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <exception>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <ostream>
@@ -134,6 +135,9 @@ int main(int argc, char** argv) {
     } catch (const InputError& e) {
       std::fprintf(stderr, "%s\n", e.what());
       return 2;
+    } catch (const std::exception& e) {  // no JSON then: a partial result would read as whole
+      std::fprintf(stderr, "sinew_bench_assembly: %s: %s\n", mesh.name.c_str(), e.what());
+      return 1;
     }
   }
   write_file_atomically(out, [&](std::ostream& o) { o << results.dump(2) << "\n"; });

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <type_traits>
 
 #include "engine/assembly/invariant_tet_hessian.hpp"
@@ -179,6 +180,8 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, const TetHessianScatter& hessian,
                                     const GivenDeformation* given) {
+  if (nodes.count != 4 || quad.points != 1 || quad.mean_dilatation)
+    throw std::logic_error("hyperelastic_tet_derivatives: a TetHessianScatter takes a one-point tet only");
   return sum_over_points(material, quad, nodes, gradient, &hessian, false, given);
 }
 

@@ -45,7 +45,8 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
                                     const GivenDeformation* given = nullptr);
 // The same with the projected Hessian added straight into a system matrix's values (the
 // assembly's path: no 12 x 12 matrix formed and scattered; the same values bit for bit as
-// scatter_element_matrix of the matrix above).
+// scatter_element_matrix of the matrix above, as long as no value is -0: see
+// tet_hessian_scatter.hpp). A one-point tet only (nodes.count 4, no mean dilatation).
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, const TetHessianScatter& hessian,
                                     const GivenDeformation* given = nullptr);

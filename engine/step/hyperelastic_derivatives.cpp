@@ -22,7 +22,8 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
   const auto visit = [&](int e, const ElementNodes& nodes, const ElementQuadrature& quad,
                          const GivenDeformation* given) {
     const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
-    // Tets in 12 x 12, with the projected or (Newton near convergence) the exact Hessian.
+    // Tets: the exact Hessian (Newton near convergence) in 12 x 12 and scattered, the projected
+    // one added straight into the values.
     if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
       if (values && exact) {

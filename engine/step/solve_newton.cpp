@@ -123,17 +123,19 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     if (A0_is_diagonal) multiply_diagonal(A0_diagonal, in, out);
     else multiply_system(A0, in, out);  // in parallel: Eigen's product is one thread
   };
-  // H = A0 before the Hessians are added. Every matrix of a step has the model's one pattern
-  // (SystemPattern), so once H holds it only the values are written: with A0 diagonal, zeros
-  // and that diagonal (A0's other entries are +0: the same bits); else A0's values. A whole
-  // copy moved 2.3 MB a step on bunny_5 (values, row indices, column starts).
+  // H = A0 before the Hessians are added. Every matrix of a step has the stage model's one
+  // pattern (SystemPattern; World::apply_sleeping_set drops Newton's kept matrices when the
+  // awake set, and with it the pattern, changes), so once H holds it only the values are
+  // written: with A0 diagonal, zeros and that diagonal (A0's other entries are +0: the same
+  // bits); else A0's values. A whole copy moved 2.3 MB a step on bunny_5 (values, row
+  // indices, column starts). The column starts are compared (n + 1 ints) as a cheap guard.
   const auto start_from_A0 = [&](SparseMatrix& to) {
-    if (to.rows() != A0.rows() || to.nonZeros() != A0.nonZeros() || !to.isCompressed()) {
+    if (to.rows() != A0.rows() || to.nonZeros() != A0.nonZeros() || !to.isCompressed() || !A0.isCompressed() ||
+        !std::equal(A0.outerIndexPtr(), A0.outerIndexPtr() + A0.outerSize() + 1, to.outerIndexPtr())) {
       to = A0;
       return;
     }
     assert(std::equal(A0.innerIndexPtr(), A0.innerIndexPtr() + A0.nonZeros(), to.innerIndexPtr()));
-    assert(std::equal(A0.outerIndexPtr(), A0.outerIndexPtr() + A0.outerSize() + 1, to.outerIndexPtr()));
     double* values = to.valuePtr();
     if (!A0_is_diagonal) {
       std::copy(A0.valuePtr(), A0.valuePtr() + A0.nonZeros(), values);
