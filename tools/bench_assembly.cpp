@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
     }
     if (options.has("--threads")) {
       only_threads = cli::parse_int(options.get("--threads"), "option --threads", 1);
-      if (only_threads > 2) throw cli::UsageError("option --threads expects 1 or 2, got " + options.get("--threads"));
+      if (only_threads > 2) throw cli::UsageError("option --threads expects 1 or 2, got '" + options.get("--threads") + "'");
     }
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "sinew_bench_assembly: %s\n", e.what());

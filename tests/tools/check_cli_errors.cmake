@@ -2,7 +2,7 @@
 # line on stderr that names the program, the option and the value given (never an abort,
 # never a number read from half of it), and --help exits 0 describing every option. Only
 # bad-argument and --help runs: nothing is benchmarked. Usage:
-#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DREALTIME=... -DFORK_JOIN=... -DOUT=dir -P this file.
+#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DREALTIME=... -DFORK_JOIN=... -DASSEMBLY=... -DOUT=dir -P this file.
 cmake_minimum_required(VERSION 3.19)
 
 set(CHECK_NAME tools_cli_errors)
@@ -64,6 +64,13 @@ foreach(bad "--steps;abc" "--steps;3abc" "--steps;0" "--warmup;-1" "--warmup;1.5
   expect_refused("${HYPERELASTIC}" ${option} ${bad})
 endforeach()
 expect_refused("${HYPERELASTIC}" --steps --steps)  # no value
+
+expect_help("${ASSEMBLY}" --repeats --settle --mesh --threads --out)
+foreach(bad "--repeats;abc" "--repeats;0" "--settle;-1" "--settle;1.5" "--mesh;bunny" "--threads;3" "--threads;abc"
+            "--bogus")
+  list(GET bad 0 option)
+  expect_refused("${ASSEMBLY}" ${option} ${bad})
+endforeach()
 
 expect_help("${CONTACT}" --repeats --threads --grid --brute-force-bodies --out)
 foreach(bad "--repeats;abc" "--repeats;3abc" "--repeats;0" "--threads;two" "--threads;2x" "--grid;0" "--grid;1.5"
