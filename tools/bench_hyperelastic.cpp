@@ -63,16 +63,6 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
   return s;
 }
 
-// The value of option `name`, which must be one of `allowed`; "" when not given.
-std::string one_of(const cli::Options& options, const std::string& name, const std::vector<std::string>& allowed) {
-  if (!options.has(name)) return "";
-  const std::string value = options.get(name);
-  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return value;
-  std::string expected;
-  for (const std::string& a : allowed) expected += (expected.empty() ? "" : " or ") + a;
-  throw cli::UsageError("option " + name + " expects " + expected + ", got '" + value + "'");
-}
-
 double median(std::vector<double> v) { return v.empty() ? 0.0 : quantile(v, 0.5); }
 double mean(const std::vector<double>& v) {
   double sum = 0;
@@ -113,11 +103,9 @@ int main(int argc, char** argv) {
     refactor_interval = options.get_int("--refactor-interval", refactor_interval, 1);
     out = options.get("--out", out);
     // A case name that matches nothing would run nothing and write an empty result.
-    std::vector<std::string> meshes;
-    for (const MeshCase& m : kMeshes) meshes.push_back(m.name);
-    only_mesh = one_of(options, "--mesh", meshes);
-    only_mode = one_of(options, "--mode", {"one_newton_iteration", "newton_converged_1e-6"});
-    const std::string threads = one_of(options, "--threads", {"1", "2"});
+    only_mesh = options.get_one_of("--mesh", sinew::bench::mesh_names());
+    only_mode = options.get_one_of("--mode", {"one_newton_iteration", "newton_converged_1e-6"});
+    const std::string threads = options.get_one_of("--threads", {"1", "2"});
     if (!threads.empty()) only_threads = cli::parse_int(threads, "option --threads", 1);
   } catch (const cli::UsageError& e) {
     std::fprintf(stderr, "sinew_bench_hyperelastic: %s\n", e.what());

@@ -73,6 +73,15 @@ std::string Options::get(const std::string& name, const std::string& fallback) c
   return it == m_values.end() ? fallback : it->second;
 }
 
+std::string Options::get_one_of(const std::string& name, const std::vector<std::string>& allowed) const {
+  if (!has(name)) return "";
+  const std::string value = get(name);
+  if (std::find(allowed.begin(), allowed.end(), value) != allowed.end()) return value;
+  std::string expected;
+  for (const std::string& a : allowed) expected += (expected.empty() ? "" : " or ") + a;
+  throw UsageError("option " + name + " expects " + expected + ", got '" + value + "'");
+}
+
 int Options::get_int(const std::string& name, int fallback, int min_value) const {
   return has(name) ? parse_int(get(name), "option " + name, min_value) : fallback;
 }

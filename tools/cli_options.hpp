@@ -36,6 +36,9 @@ class Options {
   std::string get(const std::string& name, const std::string& fallback = "") const;
   int get_int(const std::string& name, int fallback, int min_value) const;
   double get_double(const std::string& name, double fallback, double min_exclusive) const;
+  // The value of option `name`, which must be one of `allowed` (UsageError naming both
+  // otherwise); "" when not given.
+  std::string get_one_of(const std::string& name, const std::vector<std::string>& allowed) const;
   const std::vector<std::string>& positional() const { return m_positional; }
 
  private:

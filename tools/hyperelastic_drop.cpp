@@ -10,6 +10,12 @@ const std::vector<MeshCase> kMeshes = {
     {"bunny_5", R"({"scale": 0.002, "rotation_deg": [-90, 0, 0], "translate": [0, 0.05, 0]})"},
     {"cube_20", R"({"scale": 0.2, "translate": [-0.3, 0.05, -0.075]})"}};
 
+std::vector<std::string> mesh_names() {
+  std::vector<std::string> names;
+  for (const MeshCase& m : kMeshes) names.push_back(m.name);
+  return names;
+}
+
 std::string mesh_base(const MeshCase& mesh) {
   return std::string(SINEW_SOURCE_DIR) + "/../shared/meshes/tet/" + mesh.name;
 }

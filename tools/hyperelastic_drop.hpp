@@ -17,6 +17,8 @@ struct MeshCase {
 
 // bunny_5 (5,266 tets) and cube_20 (13,200 tets).
 extern const std::vector<MeshCase> kMeshes;
+// Their names, for an option that picks one.
+std::vector<std::string> mesh_names();
 
 // The mesh's files without extension (SINEW_SOURCE_DIR/../shared/meshes/tet/NAME), and
 // whether its .node and .ele are there.
