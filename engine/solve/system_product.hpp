@@ -12,6 +12,19 @@ namespace sinew {
 // symmetric with both triangles stored. out must not alias x.
 void multiply_system(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, VecX& out);
 
+// out = A x for an A with the system pattern's node blocks (system_pattern.hpp: columns 3j,
+// 3j+1 and 3j+2 hold the same rows, which come in whole nodes 3i, 3i+1, 3i+2), as every step
+// matrix has: the three columns of a node are summed together, one index and one load of
+// x_i a block of nine entries, three independent chains of additions. Each column's sum
+// takes its terms in multiply_system's order: the same bits. Throws std::invalid_argument
+// when the columns of a node differ in length or hold a partial node (a cheap test; the
+// sanitizer build checks the rows too, has_node_blocks).
+void multiply_node_blocked(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, VecX& out);
+
+// Whether A is compressed, square with 3k columns, and each node's three columns hold the
+// same rows in whole nodes (reads every row index).
+bool has_node_blocks(const SparseMatrix& A);
+
 // out = A x for an A whose nonzero entries all lie on its diagonal d, stored on a whole
 // pattern (a hyperelastic scene's mass matrix): one pass over d, with the bits of
 // multiply_system's column sums for a finite x, as those add exact zeros around d_j x_j

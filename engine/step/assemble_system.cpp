@@ -202,7 +202,7 @@ void multiply_elementwise(const Model& model, const State& state, const std::arr
 
 void multiply_step_system(const Model& model, const State& state, const VecX& x, VecX& out) {
   if (state.system_assembled) {
-    multiply_system(state.system, x, out);
+    multiply_node_blocked(state.system, x, out);
     return;
   }
   multiply_elementwise<1>(model, state, {&x}, {&out});
@@ -211,8 +211,8 @@ void multiply_step_system(const Model& model, const State& state, const VecX& x,
 void multiply_step_system(const Model& model, const State& state, const VecX& x1, VecX& out1, const VecX& x2,
                           VecX& out2) {
   if (state.system_assembled) {
-    multiply_system(state.system, x1, out1);
-    multiply_system(state.system, x2, out2);
+    multiply_node_blocked(state.system, x1, out1);
+    multiply_node_blocked(state.system, x2, out2);
     return;
   }
   multiply_elementwise<2>(model, state, {&x1, &x2}, {&out1, &out2});

@@ -121,7 +121,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   }
   const auto multiply_A0 = [&](const VecX& in, VecX& out) {
     if (A0_is_diagonal) multiply_diagonal(A0_diagonal, in, out);
-    else multiply_system(A0, in, out);  // in parallel: Eigen's product is one thread
+    else multiply_node_blocked(A0, in, out);  // in parallel: Eigen's product is one thread
   };
   // H = A0 before the Hessians are added. Every matrix of a step has the stage model's one
   // pattern (SystemPattern; World::apply_sleeping_set drops Newton's kept matrices when the
@@ -385,7 +385,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // (docs/ARCHITECTURE.md, stage 2-3'). Below it the remaining step is small beside the one
   // taken, and keeping it refines the result (a resting body's constrained steps).
   if (ok) {
-    multiply_system(state.system, v, state.rhs);
+    multiply_node_blocked(state.system, v, state.rhs);
     if (gradient.norm() <= kTrustedResidual * first_norm) state.rhs -= gradient;
     if (state.impulse_predicted) state.rhs -= predicted;
     state.v_free = v;

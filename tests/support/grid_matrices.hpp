@@ -33,4 +33,19 @@ inline SparseMatrix grid_laplacian(int nx, int copies = 1) {
   return A;
 }
 
+// The same operator on 3 unknowns a grid point, stored as a step matrix is (the system
+// pattern's node blocks, system_pattern.hpp: every 3 x 3 block whole, its off-diagonal
+// entries explicit zeros): grid_laplacian(nx) times I_3, with the same eigenvalues.
+inline SparseMatrix node_blocked_grid_laplacian(int nx) {
+  const SparseMatrix scalar = grid_laplacian(nx);
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int j = 0; j < scalar.outerSize(); ++j)
+    for (SparseMatrix::InnerIterator it(scalar, j); it; ++it)
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) entries.emplace_back(3 * it.row() + r, 3 * j + c, r == c ? it.value() : 0.0);
+  SparseMatrix A(3 * scalar.rows(), 3 * scalar.cols());
+  A.setFromTriplets(entries.begin(), entries.end());
+  return A;
+}
+
 }  // namespace sinew::test
