@@ -6,9 +6,11 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 
 #include "engine/assembly/hyperelastic_element.hpp"
+#include "engine/core/cpu_features.hpp"
 #include "engine/fem/tet4.hpp"
 #include "engine/materials/invariant_material.hpp"
 #include "tests/engine/assembly/element_finite_differences.hpp"
@@ -200,27 +202,34 @@ TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit 
       CHECK(K_svd == K12);
       // Straight into a system's values (the assembly's path): a dense 12 x 12 column-major
       // "system" with node 2 fixed (its blocks have no positions), holding earlier sums.
-      // Each value gets base + coeff * K12 entry, as scatter_element_matrix would add it.
-      int positions[48];
-      for (int a = 0; a < 4; ++a)
-        for (int b = 0; b < 4; ++b)
-          for (int d = 0; d < 3; ++d)
-            positions[3 * (4 * a + b) + d] = a == 2 || b == 2 ? -1 : (3 * b + d) * 12 + 3 * a;
-      Mat12 values = Mat12::Constant(0.25);
-      values(4, 3) = 0;  // a +0 entry that receives a product, as off the diagonal of a fresh system
-      const Mat12 base = values;
-      const double coeff = 1.0 / 3600;
-      Vec12 g_scatter;
-      const double e_scatter = hyperelastic_tet_derivatives(*material, quad, nodes, g_scatter,
-                                                            TetHessianScatter{positions, coeff, values.data()}, &given);
-      CHECK(((e_scatter == e12) || (std::isinf(e_scatter) && std::isinf(e12))));
-      CHECK(g_scatter == g12);
-      for (int r = 0; r < 12; ++r)
-        for (int c = 0; c < 12; ++c) {
-          const bool fixed = r / 3 == 2 || c / 3 == 2;
-          const double expected = fixed ? base(r, c) : base(r, c) + coeff * K12(r, c);
-          CHECK(std::bit_cast<uint64_t>(values(r, c)) == std::bit_cast<uint64_t>(expected));  // zero signs too
-        }
+      // Each value gets base + coeff * K12 entry, as scatter_element_matrix would add it;
+      // invariant materials' blocks by the AVX2 kernel (invariant_tet_blocks.hpp) where the
+      // CPU has it, and by the scalar one.
+      for (const bool baseline : {false, true}) {
+        CAPTURE(baseline);
+        std::optional<BaselineKernelsOnly> scalar_only;
+        if (baseline) scalar_only.emplace();
+        int positions[48];
+        for (int a = 0; a < 4; ++a)
+          for (int b = 0; b < 4; ++b)
+            for (int d = 0; d < 3; ++d)
+              positions[3 * (4 * a + b) + d] = a == 2 || b == 2 ? -1 : (3 * b + d) * 12 + 3 * a;
+        Mat12 values = Mat12::Constant(0.25);
+        values(4, 3) = 0;  // a +0 entry that receives a product, as off the diagonal of a fresh system
+        const Mat12 base = values;
+        const double coeff = 1.0 / 3600;
+        Vec12 g_scatter;
+        const double e_scatter = hyperelastic_tet_derivatives(*material, quad, nodes, g_scatter,
+                                                              TetHessianScatter{positions, coeff, values.data()}, &given);
+        CHECK(((e_scatter == e12) || (std::isinf(e_scatter) && std::isinf(e12))));
+        CHECK(g_scatter == g12);
+        for (int r = 0; r < 12; ++r)
+          for (int c = 0; c < 12; ++c) {
+            const bool fixed = r / 3 == 2 || c / 3 == 2;
+            const double expected = fixed ? base(r, c) : base(r, c) + coeff * K12(r, c);
+            CHECK(std::bit_cast<uint64_t>(values(r, c)) == std::bit_cast<uint64_t>(expected));  // zero signs too
+          }
+      }
     }
     REQUIRE(inverted > 0);  // the inverted branch was exercised
   }
