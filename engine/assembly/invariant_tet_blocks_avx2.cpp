@@ -66,7 +66,34 @@ SINEW_AVX2 void scatter_block(const TetHessianScatter& to, int a, int b, const B
   }
 }
 
+// times(M, d) for the columns of M, d's entries broadcast: (c0 d0 + c1 d1) + c2 d2.
+SINEW_AVX2 __m256d times_columns(const double* M, __m256d d0, __m256d d1, __m256d d2) {
+  const __m256i rows = _mm256_set_epi64x(0, -1, -1, -1);
+  return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_maskload_pd(M, rows), d0),
+                                     _mm256_mul_pd(_mm256_maskload_pd(M + 3, rows), d1)),
+                       _mm256_mul_pd(_mm256_maskload_pd(M + 6, rows), d2));
+}
+
 }  // namespace
+
+__attribute__((target("avx2"))) void fill_node_vectors_avx2(const Mat3& F, const Mat3& cofactor, const Mat83& dN,
+                                                            const NegativeModes& modes, double w, double c_f,
+                                                            double c_cofactor, InvariantTetBlockTerms& t) {
+  const __m256d scale_u = _mm256_set1_pd(c_f), scale_z = _mm256_set1_pd(c_cofactor);
+  for (int a = 0; a < 3; ++a) {
+    const __m256d d0 = _mm256_set1_pd(dN(a + 1, 0)), d1 = _mm256_set1_pd(dN(a + 1, 1)), d2 = _mm256_set1_pd(dN(a + 1, 2));
+    const __m256d u = times_columns(F.data(), d0, d1, d2), z = times_columns(cofactor.data(), d0, d1, d2);
+    _mm256_store_pd(t.u[a], u);
+    _mm256_store_pd(t.z[a], z);
+    _mm256_store_pd(t.su[a], _mm256_mul_pd(scale_u, u));
+    _mm256_store_pd(t.sz[a], _mm256_mul_pd(scale_z, z));
+    for (int m = 0; m < t.modes; ++m) {
+      const __m256d p = times_columns(modes.matrices[m].data(), d0, d1, d2);
+      _mm256_store_pd(t.p[m][a], p);
+      _mm256_store_pd(t.sp[m][a], _mm256_mul_pd(_mm256_set1_pd(w * modes.values[m]), p));
+    }
+  }
+}
 
 __attribute__((target("avx2"))) void scatter_invariant_tet_blocks_avx2(const InvariantTetBlockTerms& t,
                                                                        const TetHessianScatter& to) {

@@ -20,9 +20,9 @@ void add_invariant_tet_hessian_to(const Mat3& F, const InvariantTerms& t, bool p
   Vec3 d[3], u[3], z[3], p[9][3];
   for (int a = 0; a < 3; ++a) {
     d[a] = dN.row(a + 1).transpose();
-    u[a] = F * d[a];
-    z[a] = cofactor * d[a];
-    for (int m = 0; m < mode_count; ++m) p[m][a] = modes.matrices[m] * d[a];
+    u[a] = times(F, d[a]);
+    z[a] = times(cofactor, d[a]);
+    for (int m = 0; m < mode_count; ++m) p[m][a] = times(modes.matrices[m], d[a]);
   }
   const double c_identity = 2 * t.f1 * w, c_f = 4 * t.f2 * w, c_cofactor = t.g2 * w, c_cross = -t.g1 * w;
   Mat3 K[3][3];  // blocks of nodes 1-3
@@ -51,30 +51,20 @@ void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool proj
 void add_invariant_tet_hessian(const Mat3& F, const InvariantTerms& t, bool project, const Mat83& dN, double w,
                                const TetHessianScatter& hessian, const RotationVariantSvd* svd) {
   if (!use_avx2()) return add_invariant_tet_hessian_to(F, t, project, dN, w, hessian, svd);
-  // The terms as add_invariant_tet_hessian_to takes them, each by the same expression (the
-  // same bits); the blocks in AVX2 (invariant_tet_blocks.hpp). The bunny_5 Hessian pass,
-  // callgrind: this function ~3,100 -> ~2,700 instructions a tet (modes included).
+  // The terms as add_invariant_tet_hessian_to takes them (the vectors u, z, p by times() in
+  // AVX2, the dot and cross products by the same expressions: the same bits); the blocks in
+  // AVX2 (invariant_tet_blocks.hpp). The bunny_5 Hessian pass,
+  // callgrind: this function ~3,100 -> ~2,530 instructions a tet (modes included).
   NegativeModes modes;
   InvariantTetBlockTerms terms;
   terms.modes = project ? negative_modes(invariant_eigensystem(F, t, svd), modes) : 0;
   const Mat3 cofactor = cofactor_matrix(F);
   const double c_identity = 2 * t.f1 * w, c_f = 4 * t.f2 * w, c_cofactor = t.g2 * w;
   terms.c_cross = -t.g1 * w;
+  fill_node_vectors_avx2(F, cofactor, dN, modes, w, c_f, c_cofactor, terms);
   Vec3 d[3];
+  for (int a = 0; a < 3; ++a) d[a] = dN.row(a + 1).transpose();
   const auto put = [](double (&to)[4], const Vec3& v) { to[0] = v[0], to[1] = v[1], to[2] = v[2], to[3] = 0; };
-  for (int a = 0; a < 3; ++a) {
-    d[a] = dN.row(a + 1).transpose();
-    const Vec3 u = F * d[a], z = cofactor * d[a];
-    put(terms.u[a], u);
-    put(terms.z[a], z);
-    put(terms.su[a], c_f * u);
-    put(terms.sz[a], c_cofactor * z);
-    for (int m = 0; m < terms.modes; ++m) {
-      const Vec3 p = modes.matrices[m] * d[a];
-      put(terms.p[m][a], p);
-      put(terms.sp[m][a], (w * modes.values[m]) * p);
-    }
-  }
   for (int a = 0, pair = 0; a < 3; ++a)
     for (int b = a; b < 3; ++b) {
       terms.diagonal[a][b] = c_identity * d[a].dot(d[b]);
