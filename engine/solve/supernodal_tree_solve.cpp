@@ -5,34 +5,23 @@
 #include <algorithm>
 #include <numeric>
 
+#include "engine/core/cpu_features.hpp"
 #include "engine/solve/supernode_view.hpp"
+#include "engine/solve/tree_kernels.hpp"
 
 namespace sinew {
 
 namespace {
 
-// y_s = L_ss^-1 y_s, then the rows below take -L_bs y_s (through `gather`, height rows).
+// One supernode's forward and backward passes (tree_kernels.hpp), AVX2 where the CPU has it.
 void tree_forward(const SupernodeView& s, double* y, double* gather) {
-  const Eigen::Map<const MatX> block(s.L, s.height, s.columns);
-  Eigen::Map<VecX> ys(y + s.first, s.columns);
-  block.topRows(s.columns).triangularView<Eigen::Lower>().solveInPlace(ys);
-  const int below = s.height - s.columns;
-  if (below == 0) return;
-  Eigen::Map<VecX> update(gather, below);
-  update.noalias() = block.bottomRows(below) * ys;
-  for (int r = 0; r < below; ++r) y[s.rows[s.columns + r]] -= update[r];
+  if (use_avx2()) tree_forward_avx2(s, y, gather);
+  else tree_forward_baseline(s, y, gather);
 }
 
-// y_s -= L_bs^T y_b, then y_s = L_ss^-T y_s.
 void tree_backward(const SupernodeView& s, double* y, double* gather) {
-  const Eigen::Map<const MatX> block(s.L, s.height, s.columns);
-  Eigen::Map<VecX> ys(y + s.first, s.columns);
-  if (const int below = s.height - s.columns; below > 0) {
-    Eigen::Map<VecX> values(gather, below);
-    for (int r = 0; r < below; ++r) values[r] = y[s.rows[s.columns + r]];
-    ys.noalias() -= block.bottomRows(below).transpose() * values;
-  }
-  block.topRows(s.columns).triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
+  if (use_avx2()) tree_backward_avx2(s, y, gather);
+  else tree_backward_baseline(s, y, gather);
 }
 
 }  // namespace

@@ -8,8 +8,10 @@
 #include <Eigen/CholmodSupport>
 #include <Eigen/SparseCholesky>
 #include <cstring>
+#include <optional>
 #include <random>
 
+#include "engine/core/cpu_features.hpp"
 #include "engine/solve/linear_solver.hpp"
 #include "engine/solve/supernodal_tree_solve.hpp"
 
@@ -123,6 +125,26 @@ TEST_CASE("supernodal tree solve: bit-identical on 1 and 2 threads") {
   };
   const VecX one = solve_with(1), two = solve_with(2);
   CHECK(std::memcmp(one.data(), two.data(), sizeof(double) * one.size()) == 0);
+}
+
+TEST_CASE("supernodal tree solve: the AVX2 and baseline kernels give the same bits") {
+  // tree_kernels.hpp: one order of operations on both builds (supernodes of many widths and
+  // heights, dot products with and without a remainder after the groups of four).
+  const SparseMatrix A = hex_grid_matrix(10);
+  const Factor factor(A, CHOLMOD_NESDIS);
+  const VecX b = random_vector(static_cast<int>(A.rows()), 6);
+  const auto solve_with = [&](bool baseline) {
+    std::optional<BaselineKernelsOnly> scalar_only;
+    if (baseline) scalar_only.emplace();
+    SupernodalTreeSolve tree;
+    tree.analyse(factor.L());
+    REQUIRE(tree.usable());
+    VecX x(b.size());
+    tree.solve(factor.L(), b.data(), x.data());
+    return x;
+  };
+  const VecX vector = solve_with(false), scalar = solve_with(true);
+  CHECK(std::memcmp(vector.data(), scalar.data(), sizeof(double) * vector.size()) == 0);
 }
 
 TEST_CASE("supernodal tree solve: a path-shaped tree has no split") {

@@ -1,0 +1,113 @@
+#include <immintrin.h>
+
+#include <cstddef>
+
+#include "engine/solve/tree_kernels.hpp"
+
+// AVX2 for this file's functions alone, as in supernode_kernels_avx2.cpp (compiled outside
+// the unity batches, engine/CMakeLists.txt; everything it includes comes before this line).
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#endif
+
+namespace sinew {
+
+namespace {
+
+// (p_0 + p_1) + (p_2 + p_3) of four lanes.
+double pair_sums(__m256d p) {
+  const __m128d pairs = _mm_hadd_pd(_mm256_castpd256_pd128(p), _mm256_extractf128_pd(p, 1));  // (p0 + p1, p2 + p3)
+  return _mm_cvtsd_f64(pairs) + _mm_cvtsd_f64(_mm_unpackhi_pd(pairs, pairs));
+}
+
+// tree_kernels.hpp's dot product: lane j holds p_j.
+double dot(const double* a, const double* b, int n) {
+  __m256d sum = _mm256_setzero_pd();
+  const int whole = n & ~3;
+  for (int i = 0; i < whole; i += 4) sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_loadu_pd(a + i), _mm256_loadu_pd(b + i)));
+  double total = pair_sums(sum);
+  for (int i = whole; i < n; ++i) total += a[i] * b[i];
+  return total;
+}
+
+// The dot products of columns a0 and a1 with b, b read once.
+void dot2(const double* a0, const double* a1, const double* b, int n, double& d0, double& d1) {
+  __m256d s0 = _mm256_setzero_pd(), s1 = _mm256_setzero_pd();
+  const int whole = n & ~3;
+  for (int i = 0; i < whole; i += 4) {
+    const __m256d v = _mm256_loadu_pd(b + i);
+    s0 = _mm256_add_pd(s0, _mm256_mul_pd(_mm256_loadu_pd(a0 + i), v));
+    s1 = _mm256_add_pd(s1, _mm256_mul_pd(_mm256_loadu_pd(a1 + i), v));
+  }
+  d0 = pair_sums(s0), d1 = pair_sums(s1);
+  for (int i = whole; i < n; ++i) d0 += a0[i] * b[i], d1 += a1[i] * b[i];
+}
+
+// x[i] -= c[i] * v over n entries, four at a time.
+void subtract_scaled(double* x, const double* c, double v, int n) {
+  const __m256d scale = _mm256_set1_pd(v);
+  int i = 0;
+  for (; i + 4 <= n; i += 4)
+    _mm256_storeu_pd(x + i, _mm256_sub_pd(_mm256_loadu_pd(x + i), _mm256_mul_pd(_mm256_loadu_pd(c + i), scale)));
+  for (; i < n; ++i) x[i] -= c[i] * v;
+}
+
+// x[i] = (x[i] - c0[i] v0) - c1[i] v1: two columns' steps, x read and written once.
+void subtract_scaled2(double* x, const double* c0, double v0, const double* c1, double v1, int n) {
+  const __m256d s0 = _mm256_set1_pd(v0), s1 = _mm256_set1_pd(v1);
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256d once = _mm256_sub_pd(_mm256_loadu_pd(x + i), _mm256_mul_pd(_mm256_loadu_pd(c0 + i), s0));
+    _mm256_storeu_pd(x + i, _mm256_sub_pd(once, _mm256_mul_pd(_mm256_loadu_pd(c1 + i), s1)));
+  }
+  for (; i < n; ++i) x[i] = (x[i] - c0[i] * v0) - c1[i] * v1;
+}
+
+}  // namespace
+
+// The triangle first, then the rows below: each entry still takes its columns' steps in order.
+void tree_forward_avx2(const SupernodeView& s, double* y, double* gather) {
+  double* ys = y + s.first;
+  const int below = s.height - s.columns;
+  const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height; };
+  for (int k = 0; k < s.columns; ++k) {
+    ys[k] /= column(k)[k];
+    subtract_scaled(ys + k + 1, column(k) + k + 1, ys[k], s.columns - 1 - k);
+  }
+  if (below == 0) return;
+  for (int i = 0; i < below; ++i) gather[i] = y[s.rows[s.columns + i]];
+  int k = 0;
+  for (; k + 1 < s.columns; k += 2)
+    subtract_scaled2(gather, column(k) + s.columns, ys[k], column(k + 1) + s.columns, ys[k + 1], below);
+  if (k < s.columns) subtract_scaled(gather, column(k) + s.columns, ys[k], below);
+  for (int i = 0; i < below; ++i) y[s.rows[s.columns + i]] = gather[i];
+}
+
+void tree_backward_avx2(const SupernodeView& s, double* y, double* gather) {
+  double* ys = y + s.first;
+  const int below = s.height - s.columns;
+  const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height; };
+  if (below > 0) {
+    for (int i = 0; i < below; ++i) gather[i] = y[s.rows[s.columns + i]];
+    int k = 0;
+    for (; k + 1 < s.columns; k += 2) {
+      double d0, d1;
+      dot2(column(k) + s.columns, column(k + 1) + s.columns, gather, below, d0, d1);
+      ys[k] -= d0, ys[k + 1] -= d1;
+    }
+    if (k < s.columns) ys[k] -= dot(column(k) + s.columns, gather, below);
+  }
+  for (int k = s.columns - 1; k >= 0; --k)
+    ys[k] = (ys[k] - dot(column(k) + k + 1, ys + k + 1, s.columns - 1 - k)) / column(k)[k];
+}
+
+}  // namespace sinew
+
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
