@@ -4,17 +4,8 @@
 
 #include <cstddef>
 
-// AVX2 for this file's functions alone (GCC's target attribute does not reach template
-// instantiations; clang has its own pragma: clang++ 14 compiles the file, checked by hand, as
-// no CI build compiles the engine with clang). The file is compiled
-// on its own, outside the unity batches (engine/CMakeLists.txt), and includes everything
-// before this line, so no inline function of a header is compiled with it.
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+// AVX2 for this file's functions alone (avx2_region_begin.hpp).
+#include "engine/core/avx2_region_begin.hpp"
 
 namespace sinew {
 
@@ -152,8 +143,4 @@ template void backward_avx2<16>(const SupernodeView&, double*);
 
 }  // namespace sinew
 
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+#include "engine/core/avx2_region_end.hpp"

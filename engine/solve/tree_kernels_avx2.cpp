@@ -4,14 +4,8 @@
 
 #include "engine/solve/tree_kernels.hpp"
 
-// AVX2 for this file's functions alone, as in supernode_kernels_avx2.cpp (compiled outside
-// the unity batches, engine/CMakeLists.txt; everything it includes comes before this line).
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+// AVX2 for this file's functions alone (avx2_region_begin.hpp).
+#include "engine/core/avx2_region_begin.hpp"
 
 namespace sinew {
 
@@ -106,8 +100,4 @@ void tree_backward_avx2(const SupernodeView& s, double* y, double* gather) {
 
 }  // namespace sinew
 
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+#include "engine/core/avx2_region_end.hpp"
