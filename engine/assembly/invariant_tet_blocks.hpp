@@ -12,7 +12,8 @@ namespace sinew {
 
 // M d with each entry summed left to right, (M_r0 d_0 + M_r1 d_1) + M_r2 d_2: the order of the
 // AVX2 path's columns (a register per column of M), spelt out in the scalar path too rather
-// than left to Eigen's product, whose order differs between rows.
+// than left to Eigen's product evaluator, whose order is its own to choose (the bits did not
+// change when this replaced it).
 inline Vec3 times(const Mat3& M, const Vec3& d) {
   Vec3 out;
   for (int r = 0; r < 3; ++r) out[r] = (M(r, 0) * d[0] + M(r, 1) * d[1]) + M(r, 2) * d[2];

@@ -4,7 +4,9 @@
 
 namespace sinew {
 
-namespace {
+// Named, not anonymous: the file is compiled in a unity batch, whose files share one
+// anonymous namespace.
+namespace invariant_tet_blocks_detail {
 
 // target("avx2") without "fma": no contraction of x * a + y into one rounding.
 #define SINEW_AVX2 __attribute__((target("avx2"), always_inline)) inline
@@ -74,7 +76,9 @@ SINEW_AVX2 __m256d times_columns(const double* M, __m256d d0, __m256d d1, __m256
                        _mm256_mul_pd(_mm256_maskload_pd(M + 6, rows), d2));
 }
 
-}  // namespace
+}  // namespace invariant_tet_blocks_detail
+
+using namespace invariant_tet_blocks_detail;
 
 __attribute__((target("avx2"))) void fill_node_vectors_avx2(const Mat3& F, const Mat3& cofactor, const Mat83& dN,
                                                             const NegativeModes& modes, double w, double c_f,

@@ -1,6 +1,7 @@
 #pragma once
 // Whether the hand-vectorised kernels (add_scaled.hpp, supernode_kernels_avx2.hpp,
-// compute_rotation_variant_svds in rotation_variant_svd.hpp) take their
+// tree_kernels.hpp, invariant_tet_blocks.hpp, compute_rotation_variant_svds in
+// rotation_variant_svd.hpp) take their
 // AVX2 paths: the CPU has AVX2 (checked once, at start-up; the build targets baseline x86-64)
 // and no caller turned them off. Both paths give the same bits (no fused multiply-add), so
 // this only changes speed; tests turn it off to compare.

@@ -41,7 +41,8 @@ JacobiCg::Result JacobiCg::solve(const SparseMatrix& A, const VecX& b, VecX& x, 
   double residual2 = r.squaredNorm();
   if (residual2 >= threshold)
     conjugate_gradients(
-        [&](const VecX& in, VecX& out) { multiply_system(A, in, out); }, x, r, z, p, q, max_iterations, [&](const VecX& from, VecX& to) { to = m_inverse_diagonal.cwiseProduct(from); },
+        [&](const VecX& in, VecX& out) { multiply_system(A, in, out); }, x, r, z, p, q, max_iterations,
+        [&](const VecX& from, VecX& to) { to = m_inverse_diagonal.cwiseProduct(from); },
         [&](const VecX& residual) { return (residual2 = residual.squaredNorm()) < threshold; }, result.iterations);
   result.error = std::sqrt(residual2 / rhs2);
   result.converged = residual2 < threshold;

@@ -145,7 +145,8 @@ int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, Vec
   int iterations = 0;
   // A is a step matrix (Newton's H): it has the system pattern's node blocks.
   const CgEnd end = conjugate_gradients(
-      [&](const VecX& in, VecX& out) { multiply_node_blocked(A, in, out); }, x, r, z, p, q, max_iterations, [&](const VecX& from, VecX& to) { solve(from, to); },
+      [&](const VecX& in, VecX& out) { multiply_node_blocked(A, in, out); }, x, r, z, p, q, max_iterations,
+      [&](const VecX& from, VecX& to) { solve(from, to); },
       [&](const VecX& residual) { return residual.norm() <= target; }, iterations);
   return end == CgEnd::Converged ? iterations : -1;
 }

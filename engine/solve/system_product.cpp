@@ -42,14 +42,19 @@ void multiply_node_blocked(const SparseMatrix& A, const Eigen::Ref<const VecX>& 
   bool blocked = A.isCompressed() && A.cols() % 3 == 0 && A.rows() == A.cols();
   for (int j = 0; blocked && j < nodes; ++j) {
     const int length = outer[3 * j + 1] - outer[3 * j];
-    blocked = length % 3 == 0 && outer[3 * j + 2] - outer[3 * j + 1] == length && outer[3 * j + 3] - outer[3 * j + 2] == length;
+    blocked = length % 3 == 0 && outer[3 * j + 2] - outer[3 * j + 1] == length &&
+              outer[3 * j + 3] - outer[3 * j + 2] == length;
   }
-  if (!blocked) throw std::invalid_argument("multiply_node_blocked: the matrix does not have the system pattern's node blocks");
+  const auto refuse = [] {
+    throw std::invalid_argument("multiply_node_blocked: the matrix does not have the system pattern's node blocks");
+  };
+  if (!blocked) refuse();
   assert(has_node_blocks(A));  // checked in the sanitizer build
   out.resize(A.rows());
   const int* inner = A.innerIndexPtr();
   const double* value = A.valuePtr();
   const double* in = x.data();
+  const unsigned last_node_row = static_cast<unsigned>(A.rows()) - 3;
   const auto node_columns = [&](int begin, int end) {
     for (int j = begin; j < end; ++j) {
       const int first = outer[3 * j], length = outer[3 * j + 1] - first;
@@ -59,6 +64,9 @@ void multiply_node_blocked(const SparseMatrix& A, const Eigen::Ref<const VecX>& 
       const double* v2 = value + outer[3 * j + 2];
       double s0 = 0, s1 = 0, s2 = 0;
       for (int k = 0; k < length; k += 3) {
+        // A node's first row within [0, n - 3]: no read past x (the alignment of the rows and
+        // the other columns' rows are has_node_blocks's to check).
+        if (static_cast<unsigned>(rows[k]) > last_node_row) refuse();
         const double* xi = in + rows[k];
         s0 += v0[k] * xi[0];
         s0 += v0[k + 1] * xi[1];

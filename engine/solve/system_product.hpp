@@ -17,8 +17,9 @@ void multiply_system(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, Vec
 // matrix has: the three columns of a node are summed together, one index and one load of
 // x_i a block of nine entries, three independent chains of additions. Each column's sum
 // takes its terms in multiply_system's order: the same bits. Throws std::invalid_argument
-// when the columns of a node differ in length or hold a partial node (a cheap test; the
-// sanitizer build checks the rows too, has_node_blocks).
+// when the columns of a node differ in length or in a multiple of 3, or a block's first row
+// lies outside [0, n - 3] (cheap tests, no read outside x); whether the three columns hold
+// the same rows, in aligned triples, only the sanitizer build checks (has_node_blocks).
 void multiply_node_blocked(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, VecX& out);
 
 // Whether A is compressed, square with 3k columns, and each node's three columns hold the

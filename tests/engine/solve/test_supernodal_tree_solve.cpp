@@ -133,6 +133,7 @@ TEST_CASE("supernodal tree solve: the AVX2 and baseline kernels give the same bi
   const SparseMatrix A = hex_grid_matrix(10);
   const Factor factor(A, CHOLMOD_NESDIS);
   const VecX b = random_vector(static_cast<int>(A.rows()), 6);
+  if (!use_avx2()) MESSAGE("this CPU has no AVX2: both solves take the baseline kernels");
   const auto solve_with = [&](bool baseline) {
     std::optional<BaselineKernelsOnly> scalar_only;
     if (baseline) scalar_only.emplace();

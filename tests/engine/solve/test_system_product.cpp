@@ -115,7 +115,7 @@ SparseMatrix random_node_blocked(int nx, unsigned seed) {
 }  // namespace
 
 TEST_CASE("node-blocked product: multiply_system's bits, on 1 and 2 threads, serial and parallel sizes") {
-  // 5^3 points (375 unknowns, ~17k entries: serial) and 20^3 (24,000 unknowns, ~482k: parallel).
+  // 5^3 points (375 unknowns, 6,525 entries: serial) and 20^3 (24,000 unknowns, 482,400: parallel).
   for (const int nx : {5, 20}) {
     CAPTURE(nx);
     const SparseMatrix A = random_node_blocked(nx, 21);
