@@ -9,6 +9,13 @@
 
 namespace sinew {
 
+namespace {
+
+// Below about 64k entries (the finger's 360 DOFs: 40k) a task costs more than it saves.
+constexpr long kParallelEntries = 1 << 16;
+
+}  // namespace
+
 void multiply_system(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, VecX& out) {
   out.resize(A.rows());
   if (!A.isCompressed()) {  // assembled systems are; kept correct for any other
@@ -26,8 +33,6 @@ void multiply_system(const SparseMatrix& A, const Eigen::Ref<const VecX>& x, Vec
       out[j] = sum;
     }
   };
-  // Below about 64k entries (the finger's 360 DOFs: 40k) a task costs more than it saves.
-  constexpr long kParallelEntries = 1 << 16;
   if (A.nonZeros() < kParallelEntries) {
     columns(0, static_cast<int>(A.cols()));
     return;
@@ -81,7 +86,6 @@ void multiply_node_blocked(const SparseMatrix& A, const Eigen::Ref<const VecX>& 
       out[3 * j] = s0, out[3 * j + 1] = s1, out[3 * j + 2] = s2;
     }
   };
-  constexpr long kParallelEntries = 1 << 16;  // as multiply_system
   if (A.nonZeros() < kParallelEntries) {
     node_columns(0, nodes);
     return;
