@@ -169,6 +169,7 @@ namespace {
 template <typename From, typename To>
 void copy_capped_attempt_start(const From& from, To& to) {
   to.factor_age = from.factor_age;
+  to.newton_factor_spent = from.newton_factor_spent;
   to.factor_sqp = from.factor_sqp;
   to.keep_curved_factor = from.keep_curved_factor;
   to.curvature_pending = from.curvature_pending;

@@ -53,7 +53,7 @@ class World {
   // State a capped attempt (the real-time budget) may have to be redone from (world.cpp).
   struct CappedAttemptStart {
     int factor_age = 0, factor_sqp = -1;
-    bool keep_curved_factor = false, curvature_pending = false;
+    bool newton_factor_spent = false, keep_curved_factor = false, curvature_pending = false;
     RowTable curvature_rows;
     VecX curvature_point;
     std::vector<double> curvature;

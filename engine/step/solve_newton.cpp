@@ -194,9 +194,15 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // solve then refines with that older factor as it does on the linear path.
   // Cleared when a direction is rejected: the redo with the projected Hessian must factorise
   // it, not precondition with a factor that failed or was of an indefinite exact Hessian.
-  bool may_reuse = state.step_count > 0 && solver.uses_cholmod() && ++state.factor_age < cfg.refactor_interval;
+  bool may_reuse = state.step_count > 0 && solver.uses_cholmod() && !state.newton_factor_spent &&
+                   ++state.factor_age < cfg.refactor_interval;
   bool preconditioning = false;
   int preconditioned_iterations = 0;
+  // Whether a preconditioned CG of this step ran to its cap (and fell back to a
+  // factorisation) or came within kNewtonPcgStruggling of it: the factorisation no longer
+  // preconditions H well, and the next step factorises outright instead of trying.
+  bool pcg_struggled = false;
+  int pcg_fallbacks = 0;
   // The assembled H moves into state.system by a swap (a copy took 0.1-0.3 ms a step); H's
   // storage then holds no Hessian until the next assembly.
   bool hessian_in_system = false;
@@ -299,12 +305,16 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
           // tolerance (1e-6 of the scale) could ever use. Capped so that the CG residual
           // stays below a tenth of the gradient (inexact Newton with forcing term <= 0.1,
           // whatever pcg_tolerance and newton_tolerance are; never a zero direction).
-          constexpr int kPreconditionedCap = 12;
+          constexpr int kPreconditionedCap = kNewtonPcgCap;
           iterations = solver.solve_preconditioned(state.system, scratch.negative_gradient, direction, cfg.pcg_tolerance,
                                                    kPreconditionedCap, std::min(first_norm, 0.1 * norm / cfg.pcg_tolerance));
         }
         // Too slow or no descent: this H is far from the factorised one; factorise it.
-        if (iterations < 0) usable = factorize(false);
+        if (iterations < 0) {
+          ++pcg_fallbacks;
+          usable = factorize(false);
+        }
+        pcg_struggled = pcg_struggled || iterations < 0 || iterations >= kNewtonPcgStruggling;
       }
       if (iterations >= 0) {
         preconditioned_iterations += iterations;
@@ -400,7 +410,16 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         state.v.segment<3>(3 * n) =
             (driven.position(model.rest_x.segment<3>(3 * n), t_end) - x0.segment<3>(3 * n)) / model.h;
   }
+  // A factorisation that preconditioned this step's H in kNewtonPcgStruggling or more (or
+  // failed to within the cap) is spent: the next step factorises without trying it. During
+  // an impact H changes so fast that a factorisation one step old needs 12 CG iterations or
+  // more (bunny_5's landing: six steps in a row ran 12 iterations, then factorised anyway),
+  // and one that took 9-12 at one step's age failed at the next (3 of 3 there).
+  state.newton_factor_spent = pcg_struggled;
   state.profile.iterations["newton"] += newton;
+  // With refactor_interval > 1 on every Newton step, 0 included: a name first met in a warm
+  // step would allocate (profile_map.hpp).
+  if (cfg.refactor_interval > 1) state.profile.iterations["newton_pcg_fallbacks"] += pcg_fallbacks;
   if (exact_steps) state.profile.iterations["newton_exact"] += exact_steps;
   if (preconditioned_iterations) state.profile.iterations["newton_pcg"] += preconditioned_iterations;
   // Reported on every Newton step, 0 included: a name first met in a warm step would
