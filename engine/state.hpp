@@ -105,7 +105,7 @@ struct State {
   bool factor_exact = false;         // the solver holds this step's A (solve): factorised this step, or
                                      // kept with every rotation within 1e-12 of its own (solve_velocity.cpp)
   int factor_age = 0;                // steps since the last factorisation (solve)
-  bool newton_factor_spent = false;  // the last Newton step's preconditioned CG struggled with the
+  bool newton_factor_spent = false;  // the last Newton step's preconditioned CG failed with the
                                      // factorisation: the next one factorises (solve_newton.cpp)
   int factor_sqp = -1;               // SQP iterations of the step that made the factorisation (-1: none
                                      // counted, or it refactorised within them) (constraints)

@@ -35,7 +35,8 @@ using sinew::bench::MeshCase;
 namespace {
 
 struct Samples {
-  std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints, preconditioned, factorizations;
+  std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints, preconditioned, fallbacks,
+      factorizations;
   bool finite = true;
 };
 
@@ -54,6 +55,9 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
     s.linear.push_back(scene.solver.linear == "pcg" ? count("pcg") : count("newton"));
     // refactor_interval > 1: CG iterations preconditioned with an older factorisation.
     s.preconditioned.push_back(count("newton_pcg"));
+    // Those CG solves stopped at their cap (12 iterations, not in newton_pcg) or at a direction
+    // without positive curvature, each replaced by a factorisation.
+    s.fallbacks.push_back(count("newton_pcg_fallbacks"));
     s.factorizations.push_back(static_cast<double>(p.work.factorizations));
     s.assemble.push_back(ms(Stage::Assemble));
     s.factorize.push_back(ms(Stage::Factorize));
@@ -132,11 +136,12 @@ int main(int argc, char** argv) {
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "
                       "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step; factorisations "
-                      "%.2f and preconditioned CG iterations %.2f per step (means)%s\n",
+                      "%.2f, preconditioned CG iterations %.2f (converged solves) and CG fallbacks %.2f per step (means)%s\n",
                       mesh.name.c_str(), mode, threads, median(s.step_ms), median(s.assemble), median(s.factorize),
                       median(s.solve), median(s.constraints), median(s.newton),
                       s.newton.empty() ? 0.0 : *std::max_element(s.newton.begin(), s.newton.end()), median(s.linear),
-                      mean(s.factorizations), mean(s.preconditioned), s.finite ? "" : "  (stopped: non-finite)");
+                      mean(s.factorizations), mean(s.preconditioned), mean(s.fallbacks),
+                      s.finite ? "" : "  (stopped: non-finite)");
           std::fflush(stdout);
           results["runs"].push_back({{"mesh", mesh.name}, {"mode", mode}, {"threads", threads},
                                      {"finite", s.finite}, {"step_ms_median", median(s.step_ms)},
@@ -147,6 +152,7 @@ int main(int argc, char** argv) {
                                      {"newton_median", median(s.newton)}, {"newton_total", total_newton},
                                      {"linear_median", median(s.linear)}, {"factorizations_mean", mean(s.factorizations)},
                                      {"preconditioned_cg_mean", mean(s.preconditioned)},
+                                     {"preconditioned_cg_fallbacks_mean", mean(s.fallbacks)},
                                      {"timed_steps", s.step_ms.size()}});
         } catch (const InputError& e) {
           std::fprintf(stderr, "%s\n", e.what());

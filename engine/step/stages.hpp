@@ -42,12 +42,13 @@ void settle_curvature(const Model& model, State& state);
 // 2-3 for scenes with hyperelastic bodies (paper 003): Newton on the incremental potential
 //    from the previous velocities; leaves system/rhs as the quadratic model at the result.
 //    With refactor_interval > 1, between factorisations each direction comes from CG on
-//    the current Hessian preconditioned with the last factorisation, stopped past
-//    kNewtonPcgCap iterations (H is then factorised); a step whose CG needed
-//    kNewtonPcgStruggling or more, or stopped, has the next step factorise outright
-//    (state.newton_factor_spent; stats: newton_pcg_fallbacks counts the stopped ones).
+//    the current Hessian preconditioned with the last factorisation, stopped unconverged
+//    after kNewtonPcgCap iterations or at a direction without positive curvature (H is
+//    then factorised; stats: newton_pcg_fallbacks). A step whose CG on the projected
+//    Hessian stopped so marks the factorisation spent (state.newton_factor_spent): the next
+//    step factorises at its first Newton iteration and preconditions its later ones with
+//    that factorisation.
 constexpr int kNewtonPcgCap = 12;
-constexpr int kNewtonPcgStruggling = 9;
 bool solve_newton(const Model& model, LinearSolver& solver, State& state);
 
 // 4. Constraints (paper 000, section 5): rows at x* = x0 + h v*, the LCP of eq. 23 by
