@@ -316,16 +316,15 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
           // tolerance (1e-6 of the scale) could ever use. Capped so that the CG residual
           // stays below a tenth of the gradient (inexact Newton with forcing term <= 0.1,
           // whatever pcg_tolerance and newton_tolerance are; never a zero direction).
-          constexpr int kPreconditionedCap = kNewtonPcgCap;
           iterations = solver.solve_preconditioned(state.system, scratch.negative_gradient, direction, cfg.pcg_tolerance,
-                                                   kPreconditionedCap, std::min(first_norm, 0.1 * norm / cfg.pcg_tolerance));
+                                                   kNewtonPcgCap, std::min(first_norm, 0.1 * norm / cfg.pcg_tolerance));
         }
         // Too slow or no descent: this H is far from the factorised one; factorise it.
         if (iterations < 0) {
           ++pcg_fallbacks;
+          pcg_failed = pcg_failed || !exact;
           usable = factorize(false);
         }
-        pcg_failed = pcg_failed || (!exact && iterations < 0);
       }
       if (iterations >= 0) {
         preconditioned_iterations += iterations;
