@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
        {"--delassus-reuse", "N", "solver.delassus_reuse (default " + std::to_string(defaults.delassus_reuse) + ")"},
        {"--refactor-interval", "N",
         "solver.refactor_interval (default " + std::to_string(defaults.refactor_interval) + ")"},
+       {"--stale-factor-precision", "P",
+        "single or double: solver.stale_factor_precision (default " + defaults.stale_factor_precision + ")"},
        {"--mesh", "NAME", "bunny_5 or cube_20: that mesh only (default: both)"},
        {"--mode", "MODE", "one_newton_iteration or newton_converged_1e-6: that mode only\n"
                           "                          (default: both)"},
@@ -96,7 +98,7 @@ int main(int argc, char** argv) {
        {"--out", "FILE", "JSON results (default bench_hyperelastic.json)"}},
       0);
   int warmup = 5, steps = 60, delassus_reuse = defaults.delassus_reuse, refactor_interval = defaults.refactor_interval;
-  std::string out = "bench_hyperelastic.json";
+  std::string out = "bench_hyperelastic.json", precision = defaults.stale_factor_precision;
   std::string only_mesh, only_mode;  // empty: all
   int only_threads = 0;              // 0: 1 and 2
   try {
@@ -106,6 +108,7 @@ int main(int argc, char** argv) {
     delassus_reuse = options.get_int("--delassus-reuse", delassus_reuse, 1);
     refactor_interval = options.get_int("--refactor-interval", refactor_interval, 1);
     out = options.get("--out", out);
+    if (const std::string p = options.get_one_of("--stale-factor-precision", {"single", "double"}); !p.empty()) precision = p;
     // A case name that matches nothing would run nothing and write an empty result.
     only_mesh = options.get_one_of("--mesh", sinew::bench::mesh_names());
     only_mode = options.get_one_of("--mode", {"one_newton_iteration", "newton_converged_1e-6"});
@@ -116,7 +119,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
-                            {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"refactor_interval", refactor_interval}, {"runs", nlohmann::json::array()}};
+                            {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"refactor_interval", refactor_interval},
+                            {"stale_factor_precision", precision}, {"runs", nlohmann::json::array()}};
   for (const MeshCase& mesh : kMeshes) {
     if (!only_mesh.empty() && mesh.name != only_mesh) continue;
     const std::string base = sinew::bench::mesh_base(mesh);
@@ -131,7 +135,8 @@ int main(int argc, char** argv) {
         if (only_threads && threads != only_threads) continue;
         tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
         try {
-          const SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse, refactor_interval);
+          SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse, refactor_interval);
+          scene.solver.stale_factor_precision = precision;
           const Samples s = run(scene, warmup, steps);
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "

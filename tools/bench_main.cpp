@@ -142,13 +142,14 @@ uint64_t run_once(const BenchScene& bench, const SceneDesc& scene, int warmup, i
 
 // Solver settings given on the command line for every scene (empty, 0 or -1: the scene's).
 struct SolverOverrides {
-  std::string linear, sqp_acceleration, pgs_sweeps;
+  std::string linear, sqp_acceleration, pgs_sweeps, stale_factor_precision;
   int delassus_reuse = 0, pgs_subspace = -1;
 };
 
 nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int repeat, const SolverOverrides& set) {
   SceneDesc scene = bench.make();
   if (!set.sqp_acceleration.empty()) scene.solver.sqp_acceleration = set.sqp_acceleration;
+  if (!set.stale_factor_precision.empty()) scene.solver.stale_factor_precision = set.stale_factor_precision;
   if (!set.linear.empty()) scene.solver.linear = set.linear;
   if (!set.pgs_sweeps.empty()) scene.solver.pgs_sweeps = set.pgs_sweeps;
   if (set.delassus_reuse > 0) scene.solver.delassus_reuse = set.delassus_reuse;
@@ -209,7 +210,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
   return {{"steps_per_second", steps_per_second}, {"realtime_factor", steps_per_second * scene.h}, {"h", scene.h},
           {"violation_max", worst},
           {"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
-          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
+          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"stale_factor_precision", scene.solver.stale_factor_precision}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
           {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world->state().x.allFinite()},
           {"repeats", repeat}, {"step_median_per_repeat", repeat_medians},
           {"step_median_of_repeats", quantile(repeat_medians, 0.5)}, {"repeats_identical", identical},
@@ -222,7 +223,8 @@ void print_usage(std::FILE* to) {
                "usage: sinew_bench [--scene NAME | --scene-file FILE [--scene-file FILE]... | --paper-scenes]\n"
                "                   [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--delassus-reuse N]\n"
                "                   [--pgs-subspace N] [--pgs-sweeps active_set|all_rows]\n"
-               "                   [--sqp-acceleration conjugate|none] [--repeat N] [--out FILE]\n"
+               "                   [--sqp-acceleration conjugate|none] [--stale-factor-precision single|double]\n"
+               "                   [--repeat N] [--out FILE]\n"
                "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
                "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP\n"
                "iterations; with more than one scene, a summary table at the end.\n"
@@ -239,6 +241,9 @@ void print_usage(std::FILE* to) {
                "  --pgs-subspace N      solver.pgs_subspace_interval for every scene (0: plain PGS)\n"
                "  --pgs-sweeps S        solver.pgs_sweeps for every scene (all_rows: PGS over every row on T)\n"
                "  --sqp-acceleration A  solver.sqp_acceleration for every scene (none: the SQP's plain steps)\n"
+               "  --stale-factor-precision P\n"
+               "                        solver.stale_factor_precision for every scene (double: solves with an\n"
+               "                        earlier step's factorisation read its values in double)\n"
                "  --repeat N            run each scene N times from the start (default 1): the stage figures\n"
                "                        pool every run's timed steps, and each run's median step, the median of\n"
                "                        those and whether every run ended in the same state are reported too\n"
@@ -303,6 +308,7 @@ Options parse_options(int argc, char** argv) {
     else if (arg == "--pgs-subspace") o.set.pgs_subspace = integer_option(arg, next(), 0);
     else if (arg == "--pgs-sweeps") o.set.pgs_sweeps = one_of(next(), {"active_set", "all_rows"});
     else if (arg == "--sqp-acceleration") o.set.sqp_acceleration = one_of(next(), {"conjugate", "none"});
+    else if (arg == "--stale-factor-precision") o.set.stale_factor_precision = one_of(next(), {"single", "double"});
     else if (arg == "--help" || arg == "-h") o.help = true;
     else throw UsageError("unknown option '" + arg + "' (see --help)");
   }

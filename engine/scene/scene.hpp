@@ -190,6 +190,12 @@ struct SolverDesc {
   // (and refactorises none); 1: a curved system is factorised every step. The settled
   // side-pressed finger: one factorisation in ~16 steps instead of every step.
   int curved_refactor_interval = 16;
+  // The precision of the factor's values in solves with a factorisation that is not the
+  // step's matrix (an earlier step's, or one with constraint curvature): a preconditioner
+  // there (Newton's CG, SQP's iterations, which converge to the same tolerances either way).
+  // "single": a float copy of the values, read and widened to double (half the memory read
+  // by each solve); "double": the factor itself. Exact solves always use the factor itself.
+  std::string stale_factor_precision = "single";
   // Keep H^-1 on the nodes constraint rows touch (touched_inverse.hpp) for up to this many
   // steps across refactorisations, topping it up with the current factor for nodes touched
   // for the first time. The LCP then runs on that approximate W, corrected by the exact

@@ -109,11 +109,12 @@ void LinearSolver::set_pcg_cap(int cap) {
   m_pcg_cap = IterationCaps::effective(m_desc.pcg_max_iterations, cap);
 }
 
-int LinearSolver::solve(const VecX& b, VecX& x) {
+int LinearSolver::solve(const VecX& b, VecX& x, FactorUse use) {
   ++m_solves;
   if (m_use_cholmod) {
     x.resize(b.size());
-    if (tree_solve(b.data(), x.data())) {
+    const bool single = use == FactorUse::Preconditioner && m_desc.stale_factor_precision == "single";
+    if (single ? single_precision_solve(b.data(), x.data()) : tree_solve(b.data(), x.data())) {
       m_last_residual = 0;
       return 1;
     }
@@ -146,7 +147,7 @@ int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, Vec
   // A is a step matrix (Newton's H): it has the system pattern's node blocks.
   const CgEnd end = conjugate_gradients(
       [&](const VecX& in, VecX& out) { multiply_node_blocked(A, in, out); }, x, r, z, p, q, max_iterations,
-      [&](const VecX& from, VecX& to) { solve(from, to); },
+      [&](const VecX& from, VecX& to) { solve(from, to, FactorUse::Preconditioner); },
       [&](const VecX& residual) { return residual.norm() <= target; }, iterations);
   return end == CgEnd::Converged ? iterations : -1;
 }
@@ -157,6 +158,20 @@ bool LinearSolver::tree_solve(const double* b, double* x) {
   if (!m_tree_solve.analysed_for(*L)) m_tree_solve.analyse(*L);
   if (!m_tree_solve.usable()) return false;
   m_tree_solve.solve(*L, b, x);
+  return true;
+}
+
+bool LinearSolver::single_precision_solve(const double* b, double* x) {
+  const cholmod_factor* L = m_cholmod.factor();
+  if (!L || !L->is_super) return false;
+  if (!m_tree_solve.analysed_for(*L)) m_tree_solve.analyse(*L);
+  if (!m_tree_solve.ordered()) return false;
+  if (m_single_values_of != m_factorizations) {
+    const double* values = static_cast<const double*>(L->x);
+    m_single_values.assign(values, values + L->xsize);  // one pass, allocation-free once sized
+    m_single_values_of = m_factorizations;
+  }
+  m_tree_solve.solve(*L, m_single_values.data(), b, x);
   return true;
 }
 

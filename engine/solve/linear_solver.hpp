@@ -31,8 +31,13 @@ class LinearSolver {
   // Numeric factorisation (CHOLMOD) or preconditioner setup (PCG). The first call, and
   // any call after reset_pattern(), also runs the symbolic analysis. False if A is not SPD.
   bool factorize(const SparseMatrix& A);
+  // What a CHOLMOD solve is for: the step's own matrix (Exact), or a matrix the factor
+  // only approximates (Preconditioner: an earlier step's factorisation, or one with the
+  // constraints' curvature), where with solver.stale_factor_precision "single" a supernodal
+  // factor's solve reads a float copy of its values (supernodal_tree_solve.hpp).
+  enum class FactorUse { Exact, Preconditioner };
   // Solves A x = b. PCG starts from the x passed in. Returns iterations (1 for CHOLMOD).
-  int solve(const VecX& b, VecX& x);
+  int solve(const VecX& b, VecX& x, FactorUse use = FactorUse::Exact);
   // PCG's iteration cap per solve: the scene's pcg_max_iterations, or `cap` when that is
   // lower and positive (the real-time budget's IterationCaps::pcg; 0 restores the scene's).
   void set_pcg_cap(int cap);
@@ -132,6 +137,12 @@ class LinearSolver {
   // x = A^-1 b by m_tree_solve when the factor is supernodal and its tree splits; false
   // (nothing done) otherwise.
   bool tree_solve(const double* b, double* x);
+  // The same with the factor's values in single precision (the float copy made on the first
+  // such solve after each factorisation), split or on one thread; false (nothing done)
+  // when the factor is not supernodal or its supernodes are out of order.
+  bool single_precision_solve(const double* b, double* x);
+  std::vector<float> m_single_values;  // the factor's values as floats, of factorisation...
+  long m_single_values_of = -1;        // ... number (m_factorizations), -1: none
   std::vector<int> m_column_order, m_column_start;  // solve_many's, kept
   std::vector<char> m_wanted;                        // solve_many's supernode mask, kept
   std::vector<std::unique_ptr<SolveWorkspace>> m_block_workspaces;

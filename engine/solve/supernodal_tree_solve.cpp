@@ -14,12 +14,14 @@ namespace sinew {
 namespace {
 
 // One supernode's forward and backward passes (tree_kernels.hpp), AVX2 where the CPU has it.
-void tree_forward(const SupernodeView& s, double* y, double* gather) {
+template <class Real>
+void tree_forward(const BasicSupernodeView<Real>& s, double* y, double* gather) {
   if (use_avx2()) tree_forward_avx2(s, y, gather);
   else tree_forward_baseline(s, y, gather);
 }
 
-void tree_backward(const SupernodeView& s, double* y, double* gather) {
+template <class Real>
+void tree_backward(const BasicSupernodeView<Real>& s, double* y, double* gather) {
   if (use_avx2()) tree_backward_avx2(s, y, gather);
   else tree_backward_baseline(s, y, gather);
 }
@@ -29,7 +31,7 @@ void tree_backward(const SupernodeView& s, double* y, double* gather) {
 void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
   m_factor = &L;
   m_n = static_cast<int>(L.n);
-  m_usable = false;
+  m_usable = m_ordered = false;
   for (auto& bin : m_bins) bin.clear();
   m_top.clear();
   m_top_rows.clear();
@@ -65,6 +67,10 @@ void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
     size[p] += size[s];
     first[p] = std::min(first[p], first[s]);
   }
+  // Every parent after its children: the supernodes in their own order solve on one thread.
+  m_ordered = true;
+  m_y.assign(m_n, 0.0);
+  m_gather[0].assign(std::max(1, m_max_below), 0.0);
   for (int s = 0; s < count; ++s)
     if (size[s] != s - first[s] + 1) return;
   const long total = std::accumulate(cost.begin(), cost.end(), 0L);
@@ -106,7 +112,6 @@ void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
     m_top_entries += cost[s];
     for (int k = super[s]; k < super[s + 1]; ++k) m_top_rows.push_back(k);
   }
-  m_y.assign(m_n, 0.0);
   for (int b = 0; b < 2; ++b) {
     m_bin_y[b].assign(m_n, 0.0);
     m_gather[b].assign(std::max(1, m_max_below), 0.0);
@@ -115,10 +120,27 @@ void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
 }
 
 void SupernodalTreeSolve::solve(const cholmod_factor& L, const double* b, double* x) {
+  solve_with(L, static_cast<const double*>(L.x), b, x);
+}
+
+void SupernodalTreeSolve::solve(const cholmod_factor& L, const float* values, const double* b, double* x) {
+  solve_with(L, values, b, x);
+}
+
+template <class Real>
+void SupernodalTreeSolve::solve_with(const cholmod_factor& L, const Real* values, const double* b, double* x) {
   const int* perm = static_cast<const int*>(L.Perm);
   const int* super = static_cast<const int*>(L.super);
+  const auto view = [&](int s) { return supernode_view(L, s, values); };
   double* y = m_y.data();
   for (int k = 0; k < m_n; ++k) y[k] = b[perm[k]];
+  if (!m_usable) {  // no split: every supernode in order, on this thread
+    const int count = static_cast<int>(L.nsuper);
+    for (int s = 0; s < count; ++s) tree_forward(view(s), y, m_gather[0].data());
+    for (int s = count - 1; s >= 0; --s) tree_backward(view(s), y, m_gather[0].data());
+    for (int k = 0; k < m_n; ++k) x[perm[k]] = y[k];
+    return;
+  }
   // Forward in the bins, each on its own copy: its rows from y, the top rows zero (they
   // collect the bin's updates).
   const auto bin_forward = [&](int bin) {
@@ -126,21 +148,22 @@ void SupernodalTreeSolve::solve(const cholmod_factor& L, const double* b, double
     for (const int k : m_top_rows) own[k] = 0;
     for (const Range& range : m_bins[bin]) {
       std::copy(y + super[range.first], y + super[range.last + 1], own + super[range.first]);
-      for (int s = range.first; s <= range.last; ++s) tree_forward(supernode_view(L, s), own, m_gather[bin].data());
+      for (int s = range.first; s <= range.last; ++s) tree_forward(view(s), own, m_gather[bin].data());
       std::copy(own + super[range.first], own + super[range.last + 1], y + super[range.first]);
     }
   };
   tbb::parallel_invoke([&] { bin_forward(0); }, [&] { bin_forward(1); });
   for (const int k : m_top_rows) y[k] = (y[k] + m_bin_y[0][k]) + m_bin_y[1][k];
-  for (const int s : m_top) tree_forward(supernode_view(L, s), y, m_gather[0].data());
-  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) tree_backward(supernode_view(L, *s), y, m_gather[0].data());
+  for (const int s : m_top) tree_forward(view(s), y, m_gather[0].data());
+  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) tree_backward(view(*s), y, m_gather[0].data());
   const auto bin_backward = [&](int bin) {
     const auto& ranges = m_bins[bin];
     for (auto range = ranges.rbegin(); range != ranges.rend(); ++range)
-      for (int s = range->last; s >= range->first; --s) tree_backward(supernode_view(L, s), y, m_gather[bin].data());
+      for (int s = range->last; s >= range->first; --s) tree_backward(view(s), y, m_gather[bin].data());
   };
   tbb::parallel_invoke([&] { bin_backward(0); }, [&] { bin_backward(1); });
   for (int k = 0; k < m_n; ++k) x[perm[k]] = y[k];
 }
 
 }  // namespace sinew
+

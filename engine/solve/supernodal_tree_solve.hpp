@@ -29,16 +29,28 @@ class SupernodalTreeSolve {
   // Work in the bins and the top, as factor entries (tests, docs).
   long bin_entries(int b) const { return m_bin_entries[b]; }
   long top_entries() const { return m_top_entries; }
-  // x = A^-1 b (n values each; may not alias). Allocates nothing once its buffers are sized.
+  // Whether the supernodes can be solved in their own order on one thread (every parent
+  // after its children; CHOLMOD's postorder): the single-precision solve below needs it.
+  bool ordered() const { return m_ordered; }
+  // x = A^-1 b (n values each; may not alias): with the split when usable(), else in order
+  // on one thread (ordered() needed). Allocates nothing once its buffers are sized.
   void solve(const cholmod_factor& L, const double* b, double* x);
+  // The same with L~, the factor with `values` (a single-precision copy of L.x, L.xsize
+  // entries), in double arithmetic (tree_kernels.hpp): x = P^T (L~ L~^T)^-1 P b. A
+  // preconditioner's solve: half the memory read, within a few single-precision round-offs
+  // of A^-1 b.
+  void solve(const cholmod_factor& L, const float* values, const double* b, double* x);
 
  private:
   struct Range {
     int first, last;  // supernodes first..last: one subtree, in the factor's (post)order
   };
+  template <class Real>
+  void solve_with(const cholmod_factor& L, const Real* values, const double* b, double* x);
+
   const cholmod_factor* m_factor = nullptr;
   int m_n = 0;
-  bool m_usable = false;
+  bool m_usable = false, m_ordered = false;
   std::array<std::vector<Range>, 2> m_bins;
   std::vector<int> m_top;       // supernodes outside the bins, ascending
   std::vector<int> m_top_rows;  // their rows of L

@@ -7,33 +7,36 @@ namespace sinew {
 namespace {
 
 // tree_kernels.hpp's dot product: four interleaved partial sums, then the rest in order.
-double dot(const double* a, const double* b, int n) {
+template <class Real>
+double dot(const Real* a, const double* b, int n) {
   double p[4] = {0, 0, 0, 0};
   const int whole = n & ~3;
   for (int i = 0; i < whole; i += 4)
-    for (int j = 0; j < 4; ++j) p[j] += a[i + j] * b[i + j];
+    for (int j = 0; j < 4; ++j) p[j] += static_cast<double>(a[i + j]) * b[i + j];
   double total = (p[0] + p[1]) + (p[2] + p[3]);
-  for (int i = whole; i < n; ++i) total += a[i] * b[i];
+  for (int i = whole; i < n; ++i) total += static_cast<double>(a[i]) * b[i];
   return total;
 }
 
 }  // namespace
 
-void tree_forward_baseline(const SupernodeView& s, double* y, double* gather) {
+template <class Real>
+void tree_forward_baseline(const BasicSupernodeView<Real>& s, double* y, double* gather) {
   double* ys = y + s.first;
   const int below = s.height - s.columns;
   for (int i = 0; i < below; ++i) gather[i] = y[s.rows[s.columns + i]];
   for (int k = 0; k < s.columns; ++k) {
-    const double* column = s.L + static_cast<std::size_t>(k) * s.height;
-    ys[k] /= column[k];
+    const Real* column = s.L + static_cast<std::size_t>(k) * s.height;
+    ys[k] /= static_cast<double>(column[k]);
     const double yk = ys[k];
-    for (int r = k + 1; r < s.columns; ++r) ys[r] -= column[r] * yk;
-    for (int i = 0; i < below; ++i) gather[i] -= column[s.columns + i] * yk;
+    for (int r = k + 1; r < s.columns; ++r) ys[r] -= static_cast<double>(column[r]) * yk;
+    for (int i = 0; i < below; ++i) gather[i] -= static_cast<double>(column[s.columns + i]) * yk;
   }
   for (int i = 0; i < below; ++i) y[s.rows[s.columns + i]] = gather[i];
 }
 
-void tree_backward_baseline(const SupernodeView& s, double* y, double* gather) {
+template <class Real>
+void tree_backward_baseline(const BasicSupernodeView<Real>& s, double* y, double* gather) {
   double* ys = y + s.first;
   const int below = s.height - s.columns;
   if (below > 0) {
@@ -42,9 +45,14 @@ void tree_backward_baseline(const SupernodeView& s, double* y, double* gather) {
       ys[k] -= dot(s.L + static_cast<std::size_t>(k) * s.height + s.columns, gather, below);
   }
   for (int k = s.columns - 1; k >= 0; --k) {
-    const double* column = s.L + static_cast<std::size_t>(k) * s.height;
-    ys[k] = (ys[k] - dot(column + k + 1, ys + k + 1, s.columns - 1 - k)) / column[k];
+    const Real* column = s.L + static_cast<std::size_t>(k) * s.height;
+    ys[k] = (ys[k] - dot(column + k + 1, ys + k + 1, s.columns - 1 - k)) / static_cast<double>(column[k]);
   }
 }
+
+template void tree_forward_baseline(const SupernodeView&, double*, double*);
+template void tree_forward_baseline(const SingleSupernodeView&, double*, double*);
+template void tree_backward_baseline(const SupernodeView&, double*, double*);
+template void tree_backward_baseline(const SingleSupernodeView&, double*, double*);
 
 }  // namespace sinew

@@ -10,13 +10,21 @@
 // ... up to the last whole group of four), as (p_0 + p_1) + (p_2 + p_3), then the rest in order:
 // four lanes of AVX2 where Eigen's kernels (which took these passes until 2026-12-06) used
 // two. bunny_5's drop (one Newton iteration, 1 thread) spent a quarter of its time here.
+// A single-precision view's values are widened to double as they are read: the arithmetic,
+// and y, stay double, so the passes solve exactly (to double round-off) with the factor
+// L~ of the rounded values, a fixed symmetric positive definite L~ L~^T, and read half
+// the memory (the factor's values are most of what a pass reads).
 #include "engine/solve/supernode_view.hpp"
 
 namespace sinew {
 
-void tree_forward_baseline(const SupernodeView& s, double* y, double* gather);
-void tree_backward_baseline(const SupernodeView& s, double* y, double* gather);
-void tree_forward_avx2(const SupernodeView& s, double* y, double* gather);
-void tree_backward_avx2(const SupernodeView& s, double* y, double* gather);
+template <class Real>
+void tree_forward_baseline(const BasicSupernodeView<Real>& s, double* y, double* gather);
+template <class Real>
+void tree_backward_baseline(const BasicSupernodeView<Real>& s, double* y, double* gather);
+template <class Real>
+void tree_forward_avx2(const BasicSupernodeView<Real>& s, double* y, double* gather);
+template <class Real>
+void tree_backward_avx2(const BasicSupernodeView<Real>& s, double* y, double* gather);
 
 }  // namespace sinew

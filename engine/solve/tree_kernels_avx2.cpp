@@ -17,58 +17,67 @@ double pair_sums(__m256d p) {
   return _mm_cvtsd_f64(pairs) + _mm_cvtsd_f64(_mm_unpackhi_pd(pairs, pairs));
 }
 
+// Four values of L, widened to double when single.
+__m256d load4(const double* a) { return _mm256_loadu_pd(a); }
+__m256d load4(const float* a) { return _mm256_cvtps_pd(_mm_loadu_ps(a)); }
+
 // tree_kernels.hpp's dot product: lane j holds p_j.
-double dot(const double* a, const double* b, int n) {
+template <class Real>
+double dot(const Real* a, const double* b, int n) {
   __m256d sum = _mm256_setzero_pd();
   const int whole = n & ~3;
-  for (int i = 0; i < whole; i += 4) sum = _mm256_add_pd(sum, _mm256_mul_pd(_mm256_loadu_pd(a + i), _mm256_loadu_pd(b + i)));
+  for (int i = 0; i < whole; i += 4) sum = _mm256_add_pd(sum, _mm256_mul_pd(load4(a + i), _mm256_loadu_pd(b + i)));
   double total = pair_sums(sum);
-  for (int i = whole; i < n; ++i) total += a[i] * b[i];
+  for (int i = whole; i < n; ++i) total += static_cast<double>(a[i]) * b[i];
   return total;
 }
 
 // The dot products of columns a0 and a1 with b, b read once.
-void dot2(const double* a0, const double* a1, const double* b, int n, double& d0, double& d1) {
+template <class Real>
+void dot2(const Real* a0, const Real* a1, const double* b, int n, double& d0, double& d1) {
   __m256d s0 = _mm256_setzero_pd(), s1 = _mm256_setzero_pd();
   const int whole = n & ~3;
   for (int i = 0; i < whole; i += 4) {
     const __m256d v = _mm256_loadu_pd(b + i);
-    s0 = _mm256_add_pd(s0, _mm256_mul_pd(_mm256_loadu_pd(a0 + i), v));
-    s1 = _mm256_add_pd(s1, _mm256_mul_pd(_mm256_loadu_pd(a1 + i), v));
+    s0 = _mm256_add_pd(s0, _mm256_mul_pd(load4(a0 + i), v));
+    s1 = _mm256_add_pd(s1, _mm256_mul_pd(load4(a1 + i), v));
   }
   d0 = pair_sums(s0), d1 = pair_sums(s1);
-  for (int i = whole; i < n; ++i) d0 += a0[i] * b[i], d1 += a1[i] * b[i];
+  for (int i = whole; i < n; ++i) d0 += static_cast<double>(a0[i]) * b[i], d1 += static_cast<double>(a1[i]) * b[i];
 }
 
 // x[i] -= c[i] * v over n entries, four at a time.
-void subtract_scaled(double* x, const double* c, double v, int n) {
+template <class Real>
+void subtract_scaled(double* x, const Real* c, double v, int n) {
   const __m256d scale = _mm256_set1_pd(v);
   int i = 0;
   for (; i + 4 <= n; i += 4)
-    _mm256_storeu_pd(x + i, _mm256_sub_pd(_mm256_loadu_pd(x + i), _mm256_mul_pd(_mm256_loadu_pd(c + i), scale)));
-  for (; i < n; ++i) x[i] -= c[i] * v;
+    _mm256_storeu_pd(x + i, _mm256_sub_pd(_mm256_loadu_pd(x + i), _mm256_mul_pd(load4(c + i), scale)));
+  for (; i < n; ++i) x[i] -= static_cast<double>(c[i]) * v;
 }
 
 // x[i] = (x[i] - c0[i] v0) - c1[i] v1: two columns' steps, x read and written once.
-void subtract_scaled2(double* x, const double* c0, double v0, const double* c1, double v1, int n) {
+template <class Real>
+void subtract_scaled2(double* x, const Real* c0, double v0, const Real* c1, double v1, int n) {
   const __m256d s0 = _mm256_set1_pd(v0), s1 = _mm256_set1_pd(v1);
   int i = 0;
   for (; i + 4 <= n; i += 4) {
-    const __m256d once = _mm256_sub_pd(_mm256_loadu_pd(x + i), _mm256_mul_pd(_mm256_loadu_pd(c0 + i), s0));
-    _mm256_storeu_pd(x + i, _mm256_sub_pd(once, _mm256_mul_pd(_mm256_loadu_pd(c1 + i), s1)));
+    const __m256d once = _mm256_sub_pd(_mm256_loadu_pd(x + i), _mm256_mul_pd(load4(c0 + i), s0));
+    _mm256_storeu_pd(x + i, _mm256_sub_pd(once, _mm256_mul_pd(load4(c1 + i), s1)));
   }
-  for (; i < n; ++i) x[i] = (x[i] - c0[i] * v0) - c1[i] * v1;
+  for (; i < n; ++i) x[i] = (x[i] - static_cast<double>(c0[i]) * v0) - static_cast<double>(c1[i]) * v1;
 }
 
 }  // namespace
 
 // The triangle first, then the rows below: each entry still takes its columns' steps in order.
-void tree_forward_avx2(const SupernodeView& s, double* y, double* gather) {
+template <class Real>
+void tree_forward_avx2(const BasicSupernodeView<Real>& s, double* y, double* gather) {
   double* ys = y + s.first;
   const int below = s.height - s.columns;
   const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height; };
   for (int k = 0; k < s.columns; ++k) {
-    ys[k] /= column(k)[k];
+    ys[k] /= static_cast<double>(column(k)[k]);
     subtract_scaled(ys + k + 1, column(k) + k + 1, ys[k], s.columns - 1 - k);
   }
   if (below == 0) return;
@@ -80,7 +89,8 @@ void tree_forward_avx2(const SupernodeView& s, double* y, double* gather) {
   for (int i = 0; i < below; ++i) y[s.rows[s.columns + i]] = gather[i];
 }
 
-void tree_backward_avx2(const SupernodeView& s, double* y, double* gather) {
+template <class Real>
+void tree_backward_avx2(const BasicSupernodeView<Real>& s, double* y, double* gather) {
   double* ys = y + s.first;
   const int below = s.height - s.columns;
   const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height; };
@@ -95,8 +105,13 @@ void tree_backward_avx2(const SupernodeView& s, double* y, double* gather) {
     if (k < s.columns) ys[k] -= dot(column(k) + s.columns, gather, below);
   }
   for (int k = s.columns - 1; k >= 0; --k)
-    ys[k] = (ys[k] - dot(column(k) + k + 1, ys + k + 1, s.columns - 1 - k)) / column(k)[k];
+    ys[k] = (ys[k] - dot(column(k) + k + 1, ys + k + 1, s.columns - 1 - k)) / static_cast<double>(column(k)[k]);
 }
+
+template void tree_forward_avx2(const SupernodeView&, double*, double*);
+template void tree_forward_avx2(const SingleSupernodeView&, double*, double*);
+template void tree_backward_avx2(const SupernodeView&, double*, double*);
+template void tree_backward_avx2(const SingleSupernodeView&, double*, double*);
 
 }  // namespace sinew
 

@@ -470,6 +470,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       }
     }
     StageTimer solve_timer(profile, Stage::SqpSolve);
+    // A factorisation that is not this step's A serves as the QP's preconditioner (its
+    // values may be read in single precision); the step's own factor solves exactly.
+    const auto factor_use = [&] {
+      return s.factor_exact ? LinearSolver::FactorUse::Exact : LinearSolver::FactorUse::Preconditioner;
+    };
     // With the rows' columns Y = H^-1 J^T at hand, J H^-1 r = Y^T r needs no solve, and the
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken
     // when the m dot products cost less than the solve they save (two passes over L): the
@@ -512,7 +517,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       if (k > 0) sc.residual.noalias() -= alpha * sc.sqp_product;
       if (!one_solve && !fused && !predicted_match) {
         sc.step.setZero(v_free.size());
-        solver.solve(sc.residual, sc.step);
+        solver.solve(sc.residual, sc.step, factor_use());
         v_base += sc.step;
       }
     }
@@ -527,7 +532,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         if (!(k == 0 && predicted)) apply_jacobian_transpose(model, s.rows, sc.impulse);  // else there already
         if (fused) sc.impulse += sc.residual;
         sc.correction.setZero(v_free.size());
-        solver.solve(sc.impulse, sc.correction);
+        solver.solve(sc.impulse, sc.correction, factor_use());
         exact_w.setZero();
         add_jacobian_times(model, s.rows, sc.correction, exact_w);
         s.delassus.multiply(lambda0, approximate_w);
@@ -573,7 +578,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       sc.correction.setZero(v_free.size());
       if (one_solve || fused || (predicted_match && !whole_columns)) {
         sc.dv = sc.residual + sc.impulse;
-        solver.solve(sc.dv, sc.correction);
+        solver.solve(sc.dv, sc.correction, factor_use());
       } else if (whole_columns) {
         // H^-1 J^T lambda = Y lambda from the rows' own columns, no solve (the first QP of
         // a step, Y (lambda - lambda_0) after the Newton predictor; later ones fold it into
@@ -589,7 +594,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
               sc.correction.segment(first, count) += lambda * Eigen::Map<const VecX>(s.row_column_scratch[i] + first, count);
         }, tbb::simple_partitioner());
       } else {
-        solver.solve(sc.impulse, sc.correction);
+        solver.solve(sc.impulse, sc.correction, factor_use());
       }
       v_next += sc.correction;
     }

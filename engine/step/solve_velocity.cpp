@@ -41,15 +41,20 @@ constexpr double kUnmovedRotation = 1e-12;
 // Ke R_e^T changes only with the rotations (the mass, the weights s_e and the pattern only with
 // h or the sleeping set, whose changes clear factor_rotations), so a body that only translates
 // (a fall before it lands) or lies still keeps it. Not when curvature was factored or is due.
-bool factorisation_still_current(const Model& model, const LinearSolver& solver, State& state) {
-  if (!solver.uses_cholmod() || state.factor_curved || state.factor_rotations.size() != state.R.size()) return false;
-  settle_curvature(model, state);  // a no-op unless rows are pending; a factorisation would do it first
-  if (has_curvature(state)) return false;
+// Whether no rotation moved since an uncurved factorisation (the first half of the test below).
+bool factor_rotations_unmoved(const Model& model, const State& state) {
+  if (state.factor_curved || state.factor_rotations.size() != state.R.size()) return false;
   for (int e = 0; e < model.num_elements; ++e)
     if (state.stiffness_scale[e] != 0 &&
         (state.R[e] - state.factor_rotations[e]).cwiseAbs().maxCoeff() > kUnmovedRotation)
       return false;
   return true;
+}
+
+bool factorisation_still_current(const Model& model, const LinearSolver& solver, State& state) {
+  if (!solver.uses_cholmod() || !factor_rotations_unmoved(model, state)) return false;
+  settle_curvature(model, state);  // a no-op unless rows are pending; a factorisation would do it first
+  return !has_curvature(state);
 }
 
 }  // namespace
@@ -147,7 +152,12 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   const VecX& residual = state.start_residual;  // b - A v0, from assemble_system's element pass
   VecX& delta = state.scratch.step;
   delta.setZero(v0.size());
-  solver.solve(residual, delta);  // PCG's counts: World::attempt_step
+  // With an earlier step's factorisation of another A, v_free is the SQP's first guess, not
+  // A^-1 b. A reused factorisation whose rotations have not moved (a fall) is solved exactly:
+  // a single-precision solve would strain the body by its round-off, and the rotations
+  // that moved with it would cost a factorisation at the end of the reuse.
+  const bool exact = state.factor_exact || (factor_rotations_unmoved(model, state) && !has_curvature(state));
+  solver.solve(residual, delta, exact ? LinearSolver::FactorUse::Exact : LinearSolver::FactorUse::Preconditioner);  // PCG's counts: World::attempt_step
   state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];

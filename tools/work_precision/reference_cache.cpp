@@ -44,7 +44,7 @@ nlohmann::json run_fingerprint(const SceneDesc& scene, const std::string& scene_
       {"sqp_stall_tolerance", s.sqp_stall_tolerance}, {"sqp_acceleration", s.sqp_acceleration}, {"sqp_solves", s.sqp_solves},
       {"newton_predictor", s.newton_predictor},
       {"refactor_interval", s.refactor_interval}, {"curved_refactor_interval", s.curved_refactor_interval},
-      {"delassus_reuse", s.delassus_reuse},
+      {"stale_factor_precision", s.stale_factor_precision}, {"delassus_reuse", s.delassus_reuse},
       {"activation_margin", s.activation_margin}, {"contact_tolerance", s.contact_tolerance},
       {"contact_margin", s.contact_margin}, {"body_friction", s.body_friction}, {"max_speed", s.max_speed},
       {"divergence_violation_limit", s.divergence_violation_limit},

@@ -390,6 +390,8 @@ TEST_CASE("scene parser: string and choice errors") {
   scene = minimal_scene();
   scene["solver"] = {{"sqp_acceleration", "anderson"}};
   check_error(scene, "solver.sqp_acceleration: expected one of \"conjugate\", \"none\", got \"anderson\"");
+  scene["solver"] = {{"stale_factor_precision", "half"}};
+  check_error(scene, "solver.stale_factor_precision: expected one of \"single\", \"double\", got \"half\"");
 
   scene = minimal_scene();
   scene["bodies"][0]["shape"][0]["type"] = "cube";

@@ -201,3 +201,20 @@ TEST_CASE("PCG never reuses a factorisation: refactor_interval changes nothing o
   };
   CHECK(run(4) == run(1));
 }
+
+TEST_CASE("unmoved rotations: a reused factorisation of a falling cube solves exactly") {
+  // refactor_interval 4: steps 2-4 reuse the first factorisation as an earlier step's. Its
+  // rotations have not moved, so it is this step's A and is solved exactly: a
+  // single-precision solve (solver.stale_factor_precision) would strain the cube by its
+  // round-off, turn its rotations by ~1e-8 and cost a factorisation at every 4th step.
+  World w = make_world(box_scene(0.5, Vec3(0, -kGravity, 0), 0.5, "", 1e6,
+                                 R"({"sleep_steps": 0, "refactor_interval": 4, "stale_factor_precision": "single"})"));
+  const double h = w.model().h;
+  long factorisations = 0;
+  for (int k = 1; k <= 15; ++k) {
+    REQUIRE(w.step());
+    factorisations += w.profile().work.factorizations;
+    CHECK(mean_node_velocity(w).y() == doctest::Approx(-k * h * kGravity).epsilon(1e-12));
+  }
+  CHECK(factorisations == 1);
+}
