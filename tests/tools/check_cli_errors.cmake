@@ -2,7 +2,7 @@
 # line on stderr that names the program, the option and the value given (never an abort,
 # never a number read from half of it), and --help exits 0 describing every option. Only
 # bad-argument and --help runs: nothing is benchmarked. Usage:
-#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DREALTIME=... -DFORK_JOIN=... -DASSEMBLY=... -DOUT=dir -P this file.
+#   cmake -DHYPERELASTIC=... -DCONTACT=... -DRENDER=... -DWORK_PRECISION=... -DKERNELS=... -DSINGLE_SOLVE=... -DREALTIME=... -DFORK_JOIN=... -DASSEMBLY=... -DOUT=dir -P this file.
 cmake_minimum_required(VERSION 3.19)
 
 set(CHECK_NAME tools_cli_errors)
@@ -56,10 +56,11 @@ function(expect_help program)
   endforeach()
 endfunction()
 
-expect_help("${HYPERELASTIC}" --steps --warmup --delassus-reuse --refactor-interval --mesh --mode --threads --out)
+expect_help("${HYPERELASTIC}" --steps --warmup --delassus-reuse --refactor-interval --stale-factor-precision --mesh --mode
+            --threads --out)
 foreach(bad "--steps;abc" "--steps;3abc" "--steps;0" "--warmup;-1" "--warmup;1.5" "--delassus-reuse;x"
             "--delassus-reuse;0" "--refactor-interval;8x" "--threads;abc" "--threads;3" "--mesh;bunny"
-            "--mode;newton" "--bogus")
+            "--mode;newton" "--stale-factor-precision;half" "--bogus")
   list(GET bad 0 option)
   expect_refused("${HYPERELASTIC}" ${option} ${bad})
 endforeach()
@@ -96,6 +97,12 @@ expect_help("${KERNELS}" --repeats --out)
 foreach(bad "--repeats;abc" "--repeats;3abc" "--repeats;0" "--bogus")
   list(GET bad 0 option)
   expect_refused("${KERNELS}" ${option} ${bad})
+endforeach()
+
+expect_help("${SINGLE_SOLVE}" --repeats --threads --out)
+foreach(bad "--repeats;abc" "--repeats;0" "--threads;0" "--threads;2x" "--bogus")
+  list(GET bad 0 option)
+  expect_refused("${SINGLE_SOLVE}" ${option} ${bad})
 endforeach()
 
 expect_help("${FORK_JOIN}" --rounds --out)
