@@ -156,7 +156,7 @@ bool LinearSolver::tree_solve(const double* b, double* x) {
   const cholmod_factor* L = m_cholmod.factor();
   if (!L || !L->is_super) return false;
   if (!m_tree_solve.analysed_for(*L)) m_tree_solve.analyse(*L);
-  if (!m_tree_solve.usable()) return false;
+  if (!m_tree_solve.ordered()) return false;
   m_tree_solve.solve(*L, b, x);
   return true;
 }
@@ -235,8 +235,9 @@ void LinearSolver::solve_many(const Eigen::Ref<const MatX>& B, Eigen::Ref<MatX> 
     // from two threads at once (wrong results, measured) and the pthread build serialises:
     // supernodal blocks go through SupernodalBlockSolve, which calls neither.
     if (L->is_super && B.cols() == 1) {
-      // One column: split over the elimination tree, or CHOLMOD's own solve (its BLAS-2
-      // kernels beat the block loops at width 1).
+      // One column: the tree solve (split over the elimination tree or in order), or, with
+      // supernodes out of order, CHOLMOD's own solve (its BLAS-2 kernels beat the block
+      // loops at width 1).
       if (tree_solve(B.data(), X.data())) return;
       SolveWorkspace& ws = *m_single;
       solve_into(ws, B.data(), n, 1, n);

@@ -46,6 +46,23 @@ void dot2(const Real* a0, const Real* a1, const double* b, int n, double& d0, do
   for (int i = whole; i < n; ++i) d0 += static_cast<double>(a0[i]) * b[i], d1 += static_cast<double>(a1[i]) * b[i];
 }
 
+// The dot products of columns a[0..3] with b, b read once; four independent sums.
+template <class Real>
+void dot4(const Real* const a[4], const double* b, int n, double d[4]) {
+  __m256d s0 = _mm256_setzero_pd(), s1 = _mm256_setzero_pd(), s2 = _mm256_setzero_pd(), s3 = _mm256_setzero_pd();
+  const int whole = n & ~3;
+  for (int i = 0; i < whole; i += 4) {
+    const __m256d v = _mm256_loadu_pd(b + i);
+    s0 = _mm256_add_pd(s0, _mm256_mul_pd(load4(a[0] + i), v));
+    s1 = _mm256_add_pd(s1, _mm256_mul_pd(load4(a[1] + i), v));
+    s2 = _mm256_add_pd(s2, _mm256_mul_pd(load4(a[2] + i), v));
+    s3 = _mm256_add_pd(s3, _mm256_mul_pd(load4(a[3] + i), v));
+  }
+  d[0] = pair_sums(s0), d[1] = pair_sums(s1), d[2] = pair_sums(s2), d[3] = pair_sums(s3);
+  for (int i = whole; i < n; ++i)
+    for (int j = 0; j < 4; ++j) d[j] += static_cast<double>(a[j][i]) * b[i];
+}
+
 // x[i] -= c[i] * v over n entries, four at a time.
 template <class Real>
 void subtract_scaled(double* x, const Real* c, double v, int n) {
@@ -68,6 +85,22 @@ void subtract_scaled2(double* x, const Real* c0, double v0, const Real* c1, doub
   for (; i < n; ++i) x[i] = (x[i] - static_cast<double>(c0[i]) * v0) - static_cast<double>(c1[i]) * v1;
 }
 
+// x[i] = (((x[i] - c0[i] v0) - c1[i] v1) - c2[i] v2) - c3[i] v3: four columns' steps.
+template <class Real>
+void subtract_scaled4(double* x, const Real* const c[4], const double v[4], int n) {
+  const __m256d s0 = _mm256_set1_pd(v[0]), s1 = _mm256_set1_pd(v[1]), s2 = _mm256_set1_pd(v[2]), s3 = _mm256_set1_pd(v[3]);
+  int i = 0;
+  for (; i + 4 <= n; i += 4) {
+    __m256d r = _mm256_sub_pd(_mm256_loadu_pd(x + i), _mm256_mul_pd(load4(c[0] + i), s0));
+    r = _mm256_sub_pd(r, _mm256_mul_pd(load4(c[1] + i), s1));
+    r = _mm256_sub_pd(r, _mm256_mul_pd(load4(c[2] + i), s2));
+    _mm256_storeu_pd(x + i, _mm256_sub_pd(r, _mm256_mul_pd(load4(c[3] + i), s3)));
+  }
+  for (; i < n; ++i)
+    x[i] = (((x[i] - static_cast<double>(c[0][i]) * v[0]) - static_cast<double>(c[1][i]) * v[1]) -
+            static_cast<double>(c[2][i]) * v[2]) - static_cast<double>(c[3][i]) * v[3];
+}
+
 }  // namespace
 
 // The triangle first, then the rows below: each entry still takes its columns' steps in order.
@@ -83,6 +116,11 @@ void tree_forward_avx2(const BasicSupernodeView<Real>& s, double* y, double* gat
   if (below == 0) return;
   for (int i = 0; i < below; ++i) gather[i] = y[s.rows[s.columns + i]];
   int k = 0;
+  for (; k + 3 < s.columns; k += 4) {
+    const Real* const c[4] = {column(k) + s.columns, column(k + 1) + s.columns, column(k + 2) + s.columns,
+                              column(k + 3) + s.columns};
+    subtract_scaled4(gather, c, ys + k, below);
+  }
   for (; k + 1 < s.columns; k += 2)
     subtract_scaled2(gather, column(k) + s.columns, ys[k], column(k + 1) + s.columns, ys[k + 1], below);
   if (k < s.columns) subtract_scaled(gather, column(k) + s.columns, ys[k], below);
@@ -97,6 +135,13 @@ void tree_backward_avx2(const BasicSupernodeView<Real>& s, double* y, double* ga
   if (below > 0) {
     for (int i = 0; i < below; ++i) gather[i] = y[s.rows[s.columns + i]];
     int k = 0;
+    for (; k + 3 < s.columns; k += 4) {
+      const Real* const c[4] = {column(k) + s.columns, column(k + 1) + s.columns, column(k + 2) + s.columns,
+                                column(k + 3) + s.columns};
+      double d[4];
+      dot4(c, gather, below, d);
+      for (int j = 0; j < 4; ++j) ys[k + j] -= d[j];
+    }
     for (; k + 1 < s.columns; k += 2) {
       double d0, d1;
       dot2(column(k) + s.columns, column(k + 1) + s.columns, gather, below, d0, d1);
