@@ -105,6 +105,9 @@ struct State {
   bool factor_exact = false;         // the solver holds this step's A (solve): factorised this step, or
                                      // kept with every rotation within 1e-12 of its own (solve_velocity.cpp)
   int factor_age = 0;                // steps since the last factorisation (solve)
+  bool factor_unmoved = false;       // reused for this step with no rotation moved since it was made and
+                                     // no curvature in it: this step's A, though factor_exact is false
+                                     // (which also picks SQP paths); solves read its own values (solve)
   bool newton_factor_spent = false;  // the last Newton step's preconditioned CG failed with the
                                      // factorisation: the next one factorises (solve_newton.cpp)
   int factor_sqp = -1;               // SQP iterations of the step that made the factorisation (-1: none

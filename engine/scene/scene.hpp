@@ -192,7 +192,8 @@ struct SolverDesc {
   int curved_refactor_interval = 16;
   // The precision of the factor's values in solves with a factorisation that is not the
   // step's matrix (an earlier step's, or one with constraint curvature): a preconditioner
-  // there (Newton's CG, SQP's iterations, which converge to the same tolerances either way).
+  // there (Newton's CG, SQP's iterations, which stop on true residuals and violations at
+  // the same tolerances either way; docs/scenes.md).
   // "single": a float copy of the values, read and widened to double (half the memory read
   // by each solve); "double": the factor itself. Exact solves always use the factor itself.
   std::string stale_factor_precision = "single";

@@ -50,8 +50,9 @@ class LinearSolver {
   const PcgTotals& pcg_totals() const { return m_pcg_totals; }
   // CHOLMOD only: solves A x = b, A full symmetric (both triangles) with the system pattern's
   // node blocks (its products by multiply_node_blocked, which throws std::invalid_argument on
-  // other matrices) and not the matrix last factorised, by conjugate gradients preconditioned with that factorisation, from x = 0
-  // until |b - A x| <= tolerance max(|b|, scale). Returns the iterations, or -1 when
+  // other matrices) and not the matrix last factorised, by conjugate gradients preconditioned
+  // with that factorisation (FactorUse::Preconditioner: its single-precision copy with
+  // solver.stale_factor_precision "single"), from x = 0 until |b - A x| <= tolerance max(|b|, scale). Returns the iterations, or -1 when
   // max_iterations were not enough or A showed no positive curvature along a search direction.
   int solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations,
                            double scale = 0);

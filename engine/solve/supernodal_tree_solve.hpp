@@ -6,9 +6,11 @@
 // updates to top rows accumulate there), the copies are summed into the top rows in a fixed
 // order, then the top runs. Backward: the top first, then the bins, which only read top rows.
 // The split depends on the factor alone: the result is bit-identical for any thread count.
-// Per supernode, BLAS-2 work as dense products on its block (Eigen, no BLAS call: Debian's
-// serial OpenBLAS may not run on two threads at once). CHOLMOD's single solve runs on one
-// thread; SQP, Newton-PCG and the step's velocity solve take several single solves a step.
+// Per supernode, BLAS-2 work by sinew's own passes (tree_kernels.hpp: no BLAS call, as Debian's
+// serial OpenBLAS may not run on two threads at once), on the factor's values or a
+// single-precision copy of them. CHOLMOD's single solve runs on one thread, and a tree
+// with no split is solved here in order on one thread (sinew_bench_single_solve: faster than
+// CHOLMOD's); SQP, Newton-PCG and the step's velocity solve take several single solves a step.
 #include <cholmod.h>
 
 #include <array>

@@ -465,15 +465,16 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       } else if (stalled) {
         if (!factorize_step_system(model, solver, s, false)) break;
         s.factor_exact = !s.factor_curved;
+        s.factor_unmoved = false;
         conjugate_ready = false;  // the last direction came from the old H
         ++refactorisations;
       }
     }
     StageTimer solve_timer(profile, Stage::SqpSolve);
     // A factorisation that is not this step's A serves as the QP's preconditioner (its
-    // values may be read in single precision); the step's own factor solves exactly.
+    // values may be read in single precision); one of this step's A solves exactly.
     const auto factor_use = [&] {
-      return s.factor_exact ? LinearSolver::FactorUse::Exact : LinearSolver::FactorUse::Preconditioner;
+      return s.factor_exact || s.factor_unmoved ? LinearSolver::FactorUse::Exact : LinearSolver::FactorUse::Preconditioner;
     };
     // With the rows' columns Y = H^-1 J^T at hand, J H^-1 r = Y^T r needs no solve, and the
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken

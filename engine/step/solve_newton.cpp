@@ -196,6 +196,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // it, not precondition with a factor that failed or was of an indefinite exact Hessian.
   // After a step whose preconditioned CG failed (state.newton_factor_spent), the first
   // Newton iteration factorises and the later ones precondition with that factorisation.
+  state.factor_unmoved = false;  // H changes with the positions, not only with rotations
   const bool factor_spent = state.newton_factor_spent;
   bool may_reuse = state.step_count > 0 && solver.uses_cholmod() && !factor_spent &&
                    ++state.factor_age < cfg.refactor_interval;

@@ -118,6 +118,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     // its curvature blocks (strain rows: 10 constraint evaluations per tet).
     const bool reuse = reuses_factorisation(model, solver.uses_cholmod(), state);
     ++state.factor_age;
+    state.factor_unmoved = false;
     if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
       // This step's factorisation would be the one the solver holds: keep it as this step's,
       // with what was solved with it. A G kept from an earlier factorisation (delassus_reuse)
@@ -128,6 +129,10 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
       state.profile.skipped[static_cast<int>(Stage::Factorize)] = "no rotation moved since the last factorisation";
     } else if (reuse) {
       state.factor_exact = false;
+      // Still this step's A when no rotation moved (a fall, a body at rest): solved exactly
+      // (stage 3 and the SQP), a single-precision solve's round-off would strain the body,
+      // turn its rotations and so cost the factorisation the next due step would skip.
+      state.factor_unmoved = solver.uses_cholmod() && factor_rotations_unmoved(model, state);
       // A G kept from before this factorisation (delassus_reuse) ages as at a factorisation.
       if (state.touched_inverse.stale() && !touched_inverse_young(model, state)) state.touched_inverse.reset(model.num_free);
       // PCG keeps no factor: its solves use this step's matrix, so columns of H^-1 solved
@@ -152,11 +157,8 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   const VecX& residual = state.start_residual;  // b - A v0, from assemble_system's element pass
   VecX& delta = state.scratch.step;
   delta.setZero(v0.size());
-  // With an earlier step's factorisation of another A, v_free is the SQP's first guess, not
-  // A^-1 b. A reused factorisation whose rotations have not moved (a fall) is solved exactly:
-  // a single-precision solve would strain the body by its round-off, and the rotations
-  // that moved with it would cost a factorisation at the end of the reuse.
-  const bool exact = state.factor_exact || (factor_rotations_unmoved(model, state) && !has_curvature(state));
+  // With an earlier step's factorisation of another A, v_free is the SQP's first guess, not A^-1 b.
+  const bool exact = state.factor_exact || state.factor_unmoved;
   solver.solve(residual, delta, exact ? LinearSolver::FactorUse::Exact : LinearSolver::FactorUse::Preconditioner);  // PCG's counts: World::attempt_step
   state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {

@@ -118,13 +118,18 @@ TEST_CASE("supernodal tree solve: bit-identical on 1 and 2 threads") {
     SupernodalTreeSolve tree;
     tree.analyse(factor.L());
     REQUIRE(tree.usable());
-    VecX x(b.size());
+    VecX x(b.size()), single(b.size());
     tree.solve(factor.L(), b.data(), x.data());
     tree.solve(factor.L(), b.data(), x.data());  // again on the same buffers
-    return x;
+    const double* values = static_cast<const double*>(factor.L().x);
+    const std::vector<float> rounded(values, values + factor.L().xsize);
+    tree.solve(factor.L(), rounded.data(), b.data(), single.data());  // single-precision values
+    return std::pair{x, single};
   };
-  const VecX one = solve_with(1), two = solve_with(2);
+  const auto [one, one_single] = solve_with(1);
+  const auto [two, two_single] = solve_with(2);
   CHECK(std::memcmp(one.data(), two.data(), sizeof(double) * one.size()) == 0);
+  CHECK(std::memcmp(one_single.data(), two_single.data(), sizeof(double) * one.size()) == 0);
 }
 
 TEST_CASE("supernodal tree solve: the AVX2 and baseline kernels give the same bits") {
@@ -303,9 +308,56 @@ TEST_CASE("linear_solver: preconditioner solves read single-precision values of 
   CHECK(std::memcmp(exact.data(), double_preconditioner.data(), sizeof(double) * exact.size()) == 0);
   const double error = (preconditioner - exact).norm() / exact.norm();
   CHECK(error > 0);
-  CHECK(error <= 1e-6);  // as in the tree solve's test above (the same matrices)
+  CHECK(error <= 1e-6);  // as in the tree solve's test above (the same kind of matrix, the same kappa bound)
   // Refactorised with other values: the copy follows (a stale copy would return 2x the answer).
   REQUIRE(single.factorize(2.0 * A));
   single.solve(b, preconditioner, LinearSolver::FactorUse::Preconditioner);
   CHECK((preconditioner - 0.5 * exact).norm() <= 1e-6 * 0.5 * exact.norm());
+}
+
+TEST_CASE("linear_solver: CG preconditioned with single-precision values of an ill-conditioned factor") {
+  // A = eps I + K, K the 27-point lattice Laplacian (3 unknowns a node; its null space the
+  // constants): kappa(A) ~ 52 / eps = 5e4, as a step matrix M / h^2 + K of a stiff body.
+  // The float copy's factor solves A~ = L~ L~^T with |A~ - A| <~ 2u |L| |L|^T (u = 2^-24), so
+  // rho = |I - A~^-1 A| <~ 2u kappa = 6e-3 for |L| |L|^T ~ |A|; CG then gains at least a
+  // factor 1/rho an iteration: 1e-12 in 6, or in 12 if |L| |L|^T is 10x |A|.
+  const int nx = 10, n = 3 * nx * nx * nx;
+  const auto node = [nx](int i, int j, int k) { return (k * nx + j) * nx + i; };
+  const double eps = 1e-3;
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int k = 0; k < nx; ++k)
+    for (int j = 0; j < nx; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int a = node(i, j, k);
+        int degree = 0;
+        for (int dk = -1; dk <= 1; ++dk)
+          for (int dj = -1; dj <= 1; ++dj)
+            for (int di = -1; di <= 1; ++di) {
+              const int p = i + di, q = j + dj, r = k + dk;
+              if ((di | dj | dk) == 0 || p < 0 || q < 0 || r < 0 || p >= nx || q >= nx || r >= nx) continue;
+              ++degree;
+              for (int d = 0; d < 3; ++d) entries.emplace_back(3 * a + d, 3 * node(p, q, r) + d, -1.0);
+            }
+        for (int d = 0; d < 3; ++d) entries.emplace_back(3 * a + d, 3 * a + d, degree + eps);
+      }
+  SparseMatrix A(n, n);
+  A.setFromTriplets(entries.begin(), entries.end());
+  // As a step matrix: full node blocks (the pattern multiply_node_blocked reads).
+  for (int a = 0; a < n / 3; ++a)
+    for (int b = 0; b < n / 3; ++b)
+      if (A.coeff(3 * a, 3 * b) != 0)
+        for (int d = 0; d < 3; ++d)
+          for (int e = 0; e < 3; ++e)
+            if (d != e) A.coeffRef(3 * a + d, 3 * b + e) = 0.0;
+  A.makeCompressed();
+  LinearSolver solver(SolverDesc{});  // stale_factor_precision "single"
+  REQUIRE(solver.factorize(A));
+  const VecX b = random_vector(n, 12);
+  VecX x;
+  const int iterations = solver.solve_preconditioned(A, b, x, 1e-12, 50, 0);
+  MESSAGE("CG iterations to 1e-12 with the single-precision preconditioner: " << iterations);
+  // The rounded factor is not A's: more than the one iteration that "double" takes here.
+  CHECK(iterations >= 2);
+  CHECK(iterations <= 12);
+  CHECK((b - A * x).norm() <= 1e-12 * b.norm());
 }

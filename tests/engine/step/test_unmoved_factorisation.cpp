@@ -218,3 +218,23 @@ TEST_CASE("unmoved rotations: a reused factorisation of a falling cube solves ex
   }
   CHECK(factorisations == 1);
 }
+
+TEST_CASE("unmoved rotations: a cube at rest on contacts keeps its factorisation with single-precision solves") {
+  // refactor_interval 4 and the box resting on the plane (sleep off): once settled, no
+  // rotation moves, so every due factorisation is skipped. The reused factorisation is this
+  // step's A, and the SQP's solves read its own values: single-precision solves there would
+  // move the box by their round-off (its lowest point by ~1e-10 m), its rotations by more
+  // than 1e-12, and refactorise at every 4th step.
+  World w = make_world(box_scene(0.5, Vec3(0, -kGravity, 0), 1e-3, "", 1e6,
+                                 R"({"sleep_steps": 0, "refactor_interval": 4, "stale_factor_precision": "single"})"));
+  for (int k = 0; k < 200; ++k) REQUIRE(w.step());
+  long factorisations = 0;
+  int contact_steps = 0;
+  for (int k = 0; k < 100; ++k) {
+    REQUIRE(w.step());
+    factorisations += w.profile().work.factorizations;
+    contact_steps += w.state().rows.size() > 0;
+  }
+  REQUIRE(contact_steps == 100);
+  CHECK(factorisations == 0);
+}
