@@ -190,9 +190,9 @@ struct SolverDesc {
   // (and refactorises none); 1: a curved system is factorised every step. The settled
   // side-pressed finger: one factorisation in ~16 steps instead of every step.
   int curved_refactor_interval = 16;
-  // The precision of the factor's values in solves with a factorisation that is not the
-  // step's matrix (an earlier step's, or one with constraint curvature): a preconditioner
-  // there (Newton's CG, SQP's iterations, which stop on true residuals and violations at
+  // The precision of the factor's values in solves with an earlier step's factorisation of
+  // another matrix (not one with constraint curvature, whose solves read its own values): a
+  // preconditioner there (Newton's CG, SQP's iterations, which stop on true residuals and violations at
   // the same tolerances either way; docs/scenes.md).
   // "single": a float copy of the values, read and widened to double (half the memory read
   // by each solve); "double": the factor itself. Exact solves always use the factor itself.

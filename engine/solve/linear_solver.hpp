@@ -31,9 +31,9 @@ class LinearSolver {
   // Numeric factorisation (CHOLMOD) or preconditioner setup (PCG). The first call, and
   // any call after reset_pattern(), also runs the symbolic analysis. False if A is not SPD.
   bool factorize(const SparseMatrix& A);
-  // What a CHOLMOD solve is for: the step's own matrix (Exact), or a matrix the factor
-  // only approximates (Preconditioner: an earlier step's factorisation, or one with the
-  // constraints' curvature), where with solver.stale_factor_precision "single" a supernodal
+  // What a CHOLMOD solve is for: the step's own matrix (Exact; callers also pass it for a
+  // factorisation with the constraints' curvature), or a matrix the factor only
+  // approximates (Preconditioner: an earlier step's factorisation), where with solver.stale_factor_precision "single" a supernodal
   // factor's solve reads a float copy of its values (supernodal_tree_solve.hpp).
   enum class FactorUse { Exact, Preconditioner };
   // Solves A x = b. PCG starts from the x passed in. Returns iterations (1 for CHOLMOD).

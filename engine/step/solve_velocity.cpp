@@ -157,8 +157,9 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   const VecX& residual = state.start_residual;  // b - A v0, from assemble_system's element pass
   VecX& delta = state.scratch.step;
   delta.setZero(v0.size());
-  // With an earlier step's factorisation of another A, v_free is the SQP's first guess, not A^-1 b.
-  const bool exact = state.factor_exact || state.factor_unmoved;
+  // With an earlier step's factorisation of another A, v_free is the SQP's first guess, not
+  // A^-1 b (a curved factorisation solves exactly, as in solve_constraints).
+  const bool exact = state.factor_exact || state.factor_unmoved || state.factor_curved;
   solver.solve(residual, delta, exact ? LinearSolver::FactorUse::Exact : LinearSolver::FactorUse::Preconditioner);  // PCG's counts: World::attempt_step
   state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {
