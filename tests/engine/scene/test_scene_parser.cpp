@@ -214,6 +214,7 @@ TEST_CASE("scene parser: defaults of a minimal scene") {
   CHECK(s.fps == 60);
   CHECK(s.frames == 120);
   CHECK(s.solver.linear == "cholmod");
+  CHECK(s.solver.stale_factor_precision == "single");
   CHECK(s.obstacles.empty());
   REQUIRE(s.bodies.size() == 1);
   const sinew::BodyDesc& b = s.bodies[0];
@@ -390,6 +391,8 @@ TEST_CASE("scene parser: string and choice errors") {
   scene = minimal_scene();
   scene["solver"] = {{"sqp_acceleration", "anderson"}};
   check_error(scene, "solver.sqp_acceleration: expected one of \"conjugate\", \"none\", got \"anderson\"");
+  scene["solver"] = {{"stale_factor_precision", "double"}};
+  CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.stale_factor_precision == "double");
   scene["solver"] = {{"stale_factor_precision", "half"}};
   check_error(scene, "solver.stale_factor_precision: expected one of \"single\", \"double\", got \"half\"");
 
