@@ -47,6 +47,7 @@ void report_cholmod_error(int status, const char* file, int line, const char* me
 LinearSolver::LinearSolver(const SolverDesc& desc)
     : m_use_cholmod(desc.linear != "pcg"),
       m_desc(desc),
+      m_single_precision_preconditioner(desc.stale_factor_precision == "single"),
       m_single(std::make_unique<SolveWorkspace>()),
       m_pcg_cap(desc.pcg_max_iterations) {}
 
@@ -113,7 +114,7 @@ int LinearSolver::solve(const VecX& b, VecX& x, FactorUse use) {
   ++m_solves;
   if (m_use_cholmod) {
     x.resize(b.size());
-    const bool single = use == FactorUse::Preconditioner && m_desc.stale_factor_precision == "single";
+    const bool single = use == FactorUse::Preconditioner && m_single_precision_preconditioner;
     if (single ? single_precision_solve(b.data(), x.data()) : tree_solve(b.data(), x.data())) {
       m_last_residual = 0;
       return 1;
@@ -152,20 +153,23 @@ int LinearSolver::solve_preconditioned(const SparseMatrix& A, const VecX& b, Vec
   return end == CgEnd::Converged ? iterations : -1;
 }
 
-bool LinearSolver::tree_solve(const double* b, double* x) {
+const cholmod_factor* LinearSolver::tree_solvable_factor() {
   const cholmod_factor* L = m_cholmod.factor();
-  if (!L || !L->is_super) return false;
+  if (!L || !L->is_super) return nullptr;
   if (!m_tree_solve.analysed_for(*L)) m_tree_solve.analyse(*L);
-  if (!m_tree_solve.ordered()) return false;
+  return m_tree_solve.ordered() ? L : nullptr;
+}
+
+bool LinearSolver::tree_solve(const double* b, double* x) {
+  const cholmod_factor* L = tree_solvable_factor();
+  if (!L) return false;
   m_tree_solve.solve(*L, b, x);
   return true;
 }
 
 bool LinearSolver::single_precision_solve(const double* b, double* x) {
-  const cholmod_factor* L = m_cholmod.factor();
-  if (!L || !L->is_super) return false;
-  if (!m_tree_solve.analysed_for(*L)) m_tree_solve.analyse(*L);
-  if (!m_tree_solve.ordered()) return false;
+  const cholmod_factor* L = tree_solvable_factor();
+  if (!L) return false;
   if (m_single_values_of != m_factorizations) {
     const double* values = static_cast<const double*>(L->x);
     m_single_values.assign(values, values + L->xsize);  // one pass, allocation-free once sized

@@ -103,6 +103,7 @@ class LinearSolver {
   VecX m_residual, m_preconditioned, m_search, m_product;  // solve_preconditioned's, kept
   long m_factorizations = 0, m_solves = 0;
   SolverDesc m_desc;
+  bool m_single_precision_preconditioner;  // m_desc.stale_factor_precision == "single"
   // Eigen's wrapper, with the factor exposed for solves from several threads at once.
   struct Cholmod : Eigen::CholmodDecomposition<SparseMatrix, Eigen::Upper> {
     cholmod_factor* factor() { return m_cholmodFactor; }
@@ -140,6 +141,8 @@ class LinearSolver {
   // CHOLMOD's solve, whose BLAS may also round differently from CPU to CPU); false (nothing
   // done) when its supernodes are out of order.
   bool tree_solve(const double* b, double* x);
+  // The factor, its tree analysed, when it is supernodal with supernodes in order; else null.
+  const cholmod_factor* tree_solvable_factor();
   // The same with the factor's values in single precision (the float copy made on the first
   // such solve after each factorisation), split or on one thread; false (nothing done)
   // when the factor is not supernodal or its supernodes are out of order.

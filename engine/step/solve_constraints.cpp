@@ -471,15 +471,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       }
     }
     StageTimer solve_timer(profile, Stage::SqpSolve);
-    // An earlier step's factorisation of another A serves as the QP's preconditioner (its
-    // values may be read in single precision). One of this step's A solves exactly, and so
-    // does one with the constraints' curvature: the side-pressed finger's settled QP steps
-    // (1e-5 m, within the tolerances) then take 0 line-search halvings in 21 steps, against
-    // 13 with its single-precision solves (tests/engine/step/test_curved_factor_reuse.cpp).
-    const auto factor_use = [&] {
-      return s.factor_exact || s.factor_unmoved || s.factor_curved ? LinearSolver::FactorUse::Exact
-                                                                    : LinearSolver::FactorUse::Preconditioner;
-    };
     // With the rows' columns Y = H^-1 J^T at hand, J H^-1 r = Y^T r needs no solve, and the
     // Newton step and the correction share one: v_k+1 = v_k + H^-1 (r + J^T lambda). Taken
     // when the m dot products cost less than the solve they save (two passes over L): the
@@ -522,7 +513,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       if (k > 0) sc.residual.noalias() -= alpha * sc.sqp_product;
       if (!one_solve && !fused && !predicted_match) {
         sc.step.setZero(v_free.size());
-        solver.solve(sc.residual, sc.step, factor_use());
+        solver.solve(sc.residual, sc.step, factor_use(s));
         v_base += sc.step;
       }
     }
@@ -537,7 +528,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         if (!(k == 0 && predicted)) apply_jacobian_transpose(model, s.rows, sc.impulse);  // else there already
         if (fused) sc.impulse += sc.residual;
         sc.correction.setZero(v_free.size());
-        solver.solve(sc.impulse, sc.correction, factor_use());
+        solver.solve(sc.impulse, sc.correction, factor_use(s));
         exact_w.setZero();
         add_jacobian_times(model, s.rows, sc.correction, exact_w);
         s.delassus.multiply(lambda0, approximate_w);
@@ -583,7 +574,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       sc.correction.setZero(v_free.size());
       if (one_solve || fused || (predicted_match && !whole_columns)) {
         sc.dv = sc.residual + sc.impulse;
-        solver.solve(sc.dv, sc.correction, factor_use());
+        solver.solve(sc.dv, sc.correction, factor_use(s));
       } else if (whole_columns) {
         // H^-1 J^T lambda = Y lambda from the rows' own columns, no solve (the first QP of
         // a step, Y (lambda - lambda_0) after the Newton predictor; later ones fold it into
@@ -599,7 +590,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
               sc.correction.segment(first, count) += lambda * Eigen::Map<const VecX>(s.row_column_scratch[i] + first, count);
         }, tbb::simple_partitioner());
       } else {
-        solver.solve(sc.impulse, sc.correction, factor_use());
+        solver.solve(sc.impulse, sc.correction, factor_use(s));
       }
       v_next += sc.correction;
     }

@@ -129,9 +129,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
       state.profile.skipped[static_cast<int>(Stage::Factorize)] = "no rotation moved since the last factorisation";
     } else if (reuse) {
       state.factor_exact = false;
-      // Still this step's A when no rotation moved (a fall, a body at rest): solved exactly
-      // (stage 3 and the SQP), a single-precision solve's round-off would strain the body,
-      // turn its rotations and so cost the factorisation the next due step would skip.
+      // Still this step's A when no rotation moved (a fall, a body at rest): factor_use.
       state.factor_unmoved = solver.uses_cholmod() && factor_rotations_unmoved(model, state);
       // A G kept from before this factorisation (delassus_reuse) ages as at a factorisation.
       if (state.touched_inverse.stale() && !touched_inverse_young(model, state)) state.touched_inverse.reset(model.num_free);
@@ -157,10 +155,8 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
   const VecX& residual = state.start_residual;  // b - A v0, from assemble_system's element pass
   VecX& delta = state.scratch.step;
   delta.setZero(v0.size());
-  // With an earlier step's factorisation of another A, v_free is the SQP's first guess, not
-  // A^-1 b (a curved factorisation solves exactly, as in solve_constraints).
-  const bool exact = state.factor_exact || state.factor_unmoved || state.factor_curved;
-  solver.solve(residual, delta, exact ? LinearSolver::FactorUse::Exact : LinearSolver::FactorUse::Preconditioner);  // PCG's counts: World::attempt_step
+  // With an earlier step's factorisation of another A, v_free is the SQP's first guess, not A^-1 b.
+  solver.solve(residual, delta, factor_use(state));  // PCG's counts: World::attempt_step
   state.v_free = v0 + delta;
   for (int n = 0; n < model.num_nodes; ++n) {
     const int fi = model.free_index[n];

@@ -38,6 +38,18 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
 // state.curvature and curvature_blocks from the rows solve_constraints left pending
 // (state.curvature_pending); a no-op when none are. factorize_step_system calls it first.
 void settle_curvature(const Model& model, State& state);
+// How the step's solves use the factorisation the solver holds (solver.stale_factor_precision):
+// exactly when it is this step's A (factor_exact), a reused one of the same A (no rotation
+// moved: factor_unmoved; its single-precision round-off would strain a body at rest, turn
+// its rotations and cost the factorisation the next due step skips), or one with the
+// constraints' curvature (with single-precision solves the settled side-pressed finger's QP
+// steps took 13 line-search halvings in 21 steps instead of none,
+// tests/engine/step/test_curved_factor_reuse.cpp); else as a preconditioner, an earlier
+// step's factorisation of another A.
+inline LinearSolver::FactorUse factor_use(const State& state) {
+  return state.factor_exact || state.factor_unmoved || state.factor_curved ? LinearSolver::FactorUse::Exact
+                                                                            : LinearSolver::FactorUse::Preconditioner;
+}
 
 // 2-3 for scenes with hyperelastic bodies (paper 003): Newton on the incremental potential
 //    from the previous velocities; leaves system/rhs as the quadratic model at the result.
