@@ -3,6 +3,7 @@
 // and the stage that writes it.
 #include <vector>
 
+#include "engine/assembly/kept_tet_hessians.hpp"
 #include "engine/assembly/system_pattern.hpp"
 #include "engine/collision/body_surfaces.hpp"
 #include "engine/constraints/attachment_rows.hpp"
@@ -108,6 +109,8 @@ struct State {
   bool factor_unmoved = false;       // reused for this step with no rotation moved since it was made and
                                      // no curvature in it: this step's A, though factor_exact is false
                                      // (which also picks SQP paths); solves read its own values (solve)
+  KeptTetHessians kept_tet_hessians;  // Newton's projected tet Hessians kept while their F stays
+                                     // within solver.hessian_reuse_tolerance (solve_newton.cpp)
   bool newton_factor_spent = false;  // the last Newton step's preconditioned CG failed with the
                                      // factorisation: the next one factorises (solve_newton.cpp)
   int factor_sqp = -1;               // SQP iterations of the step that made the factorisation (-1: none

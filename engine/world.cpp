@@ -62,6 +62,7 @@ void World::apply_sleeping_set() {
   // the new pattern whole (two awake sets of equal size and count would otherwise mix).
   s.scratch.newton_A0 = SparseMatrix();
   s.scratch.newton_H = SparseMatrix();
+  s.kept_tet_hessians.clear();  // scattered into the old pattern's values
   m_solver.reset_pattern();
 }
 
@@ -196,6 +197,7 @@ void World::forget_previous_step() {
   s.keep_curved_factor = false;
   s.factor_rotations.clear();
   s.touched_inverse.reset(stage_model().num_free);  // H^-1 kept from earlier steps (delassus_reuse)
+  s.kept_tet_hessians.clear();  // a failed attempt's blocks may be of non-finite positions
   s.warm_start.clear();
   s.has_constraint_impulse = s.constraint_impulse_steady = false;
   s.impulse_predicted = false;

@@ -91,6 +91,10 @@ int main(int argc, char** argv) {
         "solver.refactor_interval (default " + std::to_string(defaults.refactor_interval) + ")"},
        {"--stale-factor-precision", "P",
         "single or double: solver.stale_factor_precision (default " + defaults.stale_factor_precision + ")"},
+       {"--hessian-reuse-tolerance", "T",
+        "solver.hessian_reuse_tolerance: tets keep their projected Hessian while F\n"
+        "                          moves by at most T, entrywise (default: the scene default; 0: formed\n"
+        "                          at every assembly)"},
        {"--mesh", "NAME", "bunny_5 or cube_20: that mesh only (default: both)"},
        {"--mode", "MODE", "one_newton_iteration or newton_converged_1e-6: that mode only\n"
                           "                          (default: both)"},
@@ -99,6 +103,7 @@ int main(int argc, char** argv) {
       0);
   int warmup = 5, steps = 60, delassus_reuse = defaults.delassus_reuse, refactor_interval = defaults.refactor_interval;
   std::string out = "bench_hyperelastic.json", precision = defaults.stale_factor_precision;
+  double reuse_tolerance = defaults.hessian_reuse_tolerance;
   std::string only_mesh, only_mode;  // empty: all
   int only_threads = 0;              // 0: 1 and 2
   try {
@@ -108,6 +113,7 @@ int main(int argc, char** argv) {
     delassus_reuse = options.get_int("--delassus-reuse", delassus_reuse, 1);
     refactor_interval = options.get_int("--refactor-interval", refactor_interval, 1);
     out = options.get("--out", out);
+    reuse_tolerance = options.get_nonnegative("--hessian-reuse-tolerance", reuse_tolerance);
     if (const std::string p = options.get_one_of("--stale-factor-precision", {"single", "double"}); !p.empty()) precision = p;
     // A case name that matches nothing would run nothing and write an empty result.
     only_mesh = options.get_one_of("--mesh", sinew::bench::mesh_names());
@@ -120,7 +126,7 @@ int main(int argc, char** argv) {
   }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
                             {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"refactor_interval", refactor_interval},
-                            {"stale_factor_precision", precision}, {"runs", nlohmann::json::array()}};
+                            {"stale_factor_precision", precision}, {"hessian_reuse_tolerance", reuse_tolerance}, {"runs", nlohmann::json::array()}};
   for (const MeshCase& mesh : kMeshes) {
     if (!only_mesh.empty() && mesh.name != only_mesh) continue;
     const std::string base = sinew::bench::mesh_base(mesh);
@@ -137,6 +143,7 @@ int main(int argc, char** argv) {
         try {
           SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse, refactor_interval);
           scene.solver.stale_factor_precision = precision;
+          scene.solver.hessian_reuse_tolerance = reuse_tolerance;
           const Samples s = run(scene, warmup, steps);
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "

@@ -97,4 +97,14 @@ double Options::get_double(const std::string& name, double fallback, double min_
   return value;
 }
 
+double Options::get_nonnegative(const std::string& name, double fallback) const {
+  if (!has(name)) return fallback;
+  const std::string text = get(name);
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || value < 0)
+    throw UsageError("option " + name + " expects a number >= 0, got '" + text + "'");
+  return value;
+}
+
 }  // namespace sinew::cli

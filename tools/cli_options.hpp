@@ -36,6 +36,8 @@ class Options {
   std::string get(const std::string& name, const std::string& fallback = "") const;
   int get_int(const std::string& name, int fallback, int min_value) const;
   double get_double(const std::string& name, double fallback, double min_exclusive) const;
+  // A finite number >= 0 (a tolerance that 0 turns off).
+  double get_nonnegative(const std::string& name, double fallback) const;
   // The value of option `name`, which must be one of `allowed` (UsageError naming both
   // otherwise); "" when not given.
   std::string get_one_of(const std::string& name, const std::vector<std::string>& allowed) const;

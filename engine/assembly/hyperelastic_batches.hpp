@@ -19,13 +19,26 @@ inline bool is_hyperelastic_element(const Model& model, int e) {
   return model.bodies[model.element_body[e]].hyperelastic != nullptr;
 }
 
+// A one-point tet of an invariant material: its projected Hessian's SVD goes in the batches,
+// and its Hessian may be kept (kept_tet_hessians.hpp).
+inline bool is_one_point_invariant_tet(const Model& model, int e, int node_count, const ElementQuadrature& quad) {
+  return node_count == 4 && !quad.mean_dilatation && quad.points == 1 &&
+         model.bodies[model.element_body[e]].hyperelastic->as_invariant();
+}
+
+// Every such tet's projected Hessian is wanted (hyperelastic_derivatives without kept Hessians).
+struct EveryHessianWanted {
+  bool operator()(int, const Mat3&) const { return true; }
+};
+
 // visit(e, nodes, quad, given): given holds F = deformation_gradient(quad.dN_dX[0], nodes) and
-// its SVD for a one-point tet of an invariant material when `projected_hessians`, else null.
-// `shared_writes` false: the visits write per-element results only, and the schedule's blocks
-// run all at once instead of colour by colour.
-template <class Visit>
+// its SVD for a one-point tet of an invariant material when `projected_hessians` and
+// wanted(e, F), else null (wanted false: that tet keeps an earlier Hessian, kept_tet_hessians.hpp,
+// and needs no SVD). `shared_writes` false: the visits write per-element results only, and the
+// schedule's blocks run all at once instead of colour by colour.
+template <class Visit, class Wanted = EveryHessianWanted>
 void for_each_hyperelastic_element(const Model& model, const VecX& x, bool projected_hessians, const Visit& visit,
-                                   bool shared_writes = true) {
+                                   bool shared_writes = true, const Wanted& wanted = {}) {
   const auto visit_block = [&](int first, int last) {
     for (int group = first; group < last; group += 4) {
       const int count = std::min(4, last - group);
@@ -40,10 +53,9 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
         if (!is_hyperelastic_element(model, e)) continue;
         nodes[k] = gather_element_nodes(model, x, e);
         quads[k] = element_quadrature(model, e);
-        if (projected_hessians && nodes[k].count == 4 && !quads[k].mean_dilatation && quads[k].points == 1 &&
-            model.bodies[model.element_body[e]].hyperelastic->as_invariant()) {
+        if (projected_hessians && is_one_point_invariant_tet(model, e, nodes[k].count, quads[k])) {
           F[in_batch] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
-          batched[k] = in_batch++;
+          if (wanted(e, F[in_batch])) batched[k] = in_batch++;
         }
       }
       compute_rotation_variant_svds(F, svds, in_batch);

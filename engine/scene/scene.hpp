@@ -197,6 +197,11 @@ struct SolverDesc {
   // "single": a float copy of the values, read and widened to double (half the memory read
   // by each solve); "double": the factor itself. Exact solves always use the factor itself.
   std::string stale_factor_precision = "single";
+  // Hyperelastic tets (one point, invariant materials) keep the projected Hessian formed at an
+  // earlier Newton assembly while their F stays within this (entrywise) of the F it was
+  // formed at (0: every assembly forms every Hessian); the gradient is always exact, and
+  // Newton's tolerances are met either way (docs/scenes.md).
+  double hessian_reuse_tolerance = 1e-3;
   // Keep H^-1 on the nodes constraint rows touch (touched_inverse.hpp) for up to this many
   // steps across refactorisations, topping it up with the current factor for nodes touched
   // for the first time. The LCP then runs on that approximate W, corrected by the exact

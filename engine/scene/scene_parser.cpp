@@ -661,6 +661,7 @@ SolverDesc parse_solver(const Object& o) {
   o.integer("refactor_interval", s.refactor_interval, kPositive);
   o.integer("curved_refactor_interval", s.curved_refactor_interval, kPositive);
   o.choice("stale_factor_precision", s.stale_factor_precision, {"single", "double"});
+  o.number("hessian_reuse_tolerance", s.hessian_reuse_tolerance, kNonNegative);
   o.integer("delassus_reuse", s.delassus_reuse, kPositive);
   o.number("activation_margin", s.activation_margin, kFraction);
   o.number("contact_tolerance", s.contact_tolerance, kPositive);
@@ -683,7 +684,7 @@ const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_ite
                              "pgs_max_iterations", "pgs_tolerance", "pgs_subspace_interval", "pgs_sweeps", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
                              "contact_margin", "body_friction", "sqp_position_tolerance", "sqp_stall_tolerance", "sqp_acceleration", "sqp_solves", "newton_predictor",
-                             "refactor_interval", "curved_refactor_interval", "stale_factor_precision", "delassus_reuse", "max_speed", "budget_violation_limit", "divergence_violation_limit", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
+                             "refactor_interval", "curved_refactor_interval", "stale_factor_precision", "hessian_reuse_tolerance", "delassus_reuse", "max_speed", "budget_violation_limit", "divergence_violation_limit", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
                              "newton_tolerance", "sleep_speed", "sleep_acceleration", "sleep_steps"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",
                             "frames", "solver",  "bodies", "obstacles"};

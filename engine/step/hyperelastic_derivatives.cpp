@@ -1,15 +1,68 @@
 #include "engine/step/hyperelastic_derivatives.hpp"
 
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include "engine/assembly/hyperelastic_batches.hpp"
 #include "engine/assembly/hyperelastic_element.hpp"
 #include "engine/assembly/node_elements.hpp"
+#include "engine/assembly/kept_tet_hessians.hpp"
 #include "engine/assembly/scatter_stiffness.hpp"
 
 namespace sinew {
 
+namespace {
+
+// A tet's projected Hessian formed afresh into its kept blocks, and kept->values changed by
+// the difference from the blocks it held (none: zeros). Its energy; its gradient into g.
+double form_kept_tet_hessian(const Model& model, int e, const Material& material, const ElementQuadrature& quad,
+                             const ElementNodes& nodes, const GivenDeformation& given, Vec12& g,
+                             KeptTetHessians& kept) {
+  // The blocks go to a 144-value buffer laid out as the 48 block columns of three values (a
+  // fixed node's blocks skipped, as in the system's values).
+  const int* at = model.pattern.element_scatter.data() + model.pattern.scatter_begin[e];
+  int positions[48];
+  for (int i = 0; i < 48; ++i) positions[i] = at[i] < 0 ? -1 : 3 * i;
+  alignas(32) std::array<double, 144> formed{};
+  const TetHessianScatter local{positions, kept.coeff, formed.data()};
+  const double energy = hyperelastic_tet_derivatives(material, quad, nodes, g, local, &given);
+  kept.replace(e, given.F, formed, at);
+  return energy;
+}
+
+}  // namespace
+
+bool keeps_every_hessian(const Model& model, KeptTetHessians& kept) {
+  kept.prepare(model.num_elements, static_cast<int>(model.pattern.matrix.nonZeros()), model.h * model.h);
+  if (kept.every_element_kept < 0) {
+    bool every = true;
+    for (int e = 0; e < model.num_elements && every; ++e)
+      if (is_hyperelastic_element(model, e))
+        every = is_one_point_invariant_tet(model, e, element_node_count(model, e), element_quadrature(model, e));
+    kept.every_element_kept = every ? 1 : 0;
+  }
+  return kept.every_element_kept == 1;
+}
+
 void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
                               std::vector<double>& force2, VecX& gradient, double* values,
-                              std::vector<Vec24>& element_gradients) {
+                              std::vector<Vec24>& element_gradients, KeptTetHessians* kept,
+                              double reuse_tolerance, bool overwrite) {
+  // Kept Hessians only for the projected ones (the exact Hessian of Newton's last iterations
+  // is formed whole).
+  if (!values || exact) kept = nullptr;
+  enum : char { kDirect = 0, kFresh = 1, kKept = 2 };  // kept->fresh per element this pass
+  if (kept) {
+    if (!keeps_every_hessian(model, *kept) && overwrite)
+      throw std::logic_error("hyperelastic_derivatives: overwriting values where some Hessians are not kept");
+    std::fill(kept->fresh.begin(), kept->fresh.end(), kDirect);
+  } else if (overwrite) {
+    throw std::logic_error("hyperelastic_derivatives: overwriting values without kept Hessians");
+  }
   energy.assign(model.num_elements, 0.0);
   force2.assign(model.num_elements, 0.0);
   element_gradients.resize(model.num_elements);
@@ -26,7 +79,12 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     // one added straight into the values.
     if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
-      if (values && exact) {
+      const char pass = kept ? kept->fresh[e] : static_cast<char>(kDirect);
+      if (pass == kKept) {  // its kept blocks stand in kept->values
+        energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, nullptr, nullptr);
+      } else if (pass == kFresh) {
+        energy[e] = form_kept_tet_hessian(model, e, material, quad, nodes, *given, g, *kept);
+      } else if (values && exact) {
         Mat12 K;
         energy[e] = hyperelastic_tet_exact_derivatives(material, quad, nodes, g, K);
         scatter_element_matrix(model, e, K, model.h * model.h, values);
@@ -48,7 +106,28 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     if (values) scatter_element_matrix(model, e, K, model.h * model.h, values);
   };
   // The projected tet Hessians' SVDs four at a time (hyperelastic_batches.hpp).
-  for_each_hyperelastic_element(model, x, values && !exact, visit, values != nullptr);
+  if (kept) {
+    // Which tets form their Hessian afresh: decided where F is at hand, before the SVDs.
+    const auto wanted = [&](int e, const Mat3& F) {
+      const bool fresh = kept->needs_forming(e, F, reuse_tolerance);
+      kept->fresh[e] = fresh ? kFresh : kKept;
+      return fresh;
+    };
+    for_each_hyperelastic_element(model, x, true, visit, true, wanted);
+    long formed = 0;
+    for (char pass : kept->fresh) formed += pass == kFresh;
+    kept->formed = formed;
+    // The kept blocks' sum joins the elements scattered directly (entry by entry: the same
+    // bits for any thread count).
+    const int entries = kept->entries;
+    tbb::parallel_for(tbb::blocked_range<int>(0, entries, 16384), [&](const tbb::blocked_range<int>& r) {
+      if (overwrite) std::copy(kept->values.begin() + r.begin(), kept->values.begin() + r.end(), values + r.begin());
+      else
+        for (int i = r.begin(); i < r.end(); ++i) values[i] += kept->values[i];
+    });
+  } else {
+    for_each_hyperelastic_element(model, x, values && !exact, visit, values != nullptr);
+  }
   // A free node's elements are all of its body, hyperelastic or not alike, and awake.
   gradient.resize(3 * model.num_free);
   const auto& entries = model.node_elements.entries;

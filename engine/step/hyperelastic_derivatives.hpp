@@ -9,6 +9,8 @@
 
 namespace sinew {
 
+struct KeptTetHessians;
+
 // Per-element energies and squared force norms |dPsi_e/dx|^2, the gradient over free DOFs
 // (dPsi/dx, free nodes only) and, if `values` is not null, h^2 times the element Hessians
 // (projected, or exact if `exact`) scattered into a matrix of the system pattern.
@@ -16,8 +18,18 @@ namespace sinew {
 // (node_elements.hpp: each node's in element order), so that without `values` nothing is
 // shared between elements and the blocks run all at once, not colour by colour: the pass
 // of the line search's trials, the same bits as the assembly's.
+// kept (with `values`, projected Hessians): one-point tets of invariant materials whose F
+// moved by at most reuse_tolerance (entrywise) since their Hessian was formed keep it
+// (kept_tet_hessians.hpp); the others form theirs afresh; the kept sum is added to `values`.
+// overwrite: the values are written, not added to (only where keeps_every_hessian).
 void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
                               std::vector<double>& force2, VecX& gradient, double* values,
-                              std::vector<Vec24>& element_gradients);
+                              std::vector<Vec24>& element_gradients, KeptTetHessians* kept = nullptr,
+                              double reuse_tolerance = 0, bool overwrite = false);
+
+// Sizes `kept` for the model (dropping what it holds if the pattern or h changed) and tells
+// whether every hyperelastic element keeps its Hessian there (one-point tets of invariant
+// materials), so that a pass can overwrite the values instead of adding to zeros.
+bool keeps_every_hessian(const Model& model, KeptTetHessians& kept);
 
 }  // namespace sinew

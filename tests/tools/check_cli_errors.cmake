@@ -56,11 +56,13 @@ function(expect_help program)
   endforeach()
 endfunction()
 
-expect_help("${HYPERELASTIC}" --steps --warmup --delassus-reuse --refactor-interval --stale-factor-precision --mesh --mode
+expect_help("${HYPERELASTIC}" --steps --warmup --delassus-reuse --refactor-interval --stale-factor-precision
+            --hessian-reuse-tolerance --mesh --mode
             --threads --out)
 foreach(bad "--steps;abc" "--steps;3abc" "--steps;0" "--warmup;-1" "--warmup;1.5" "--delassus-reuse;x"
             "--delassus-reuse;0" "--refactor-interval;8x" "--threads;abc" "--threads;3" "--mesh;bunny"
-            "--mode;newton" "--stale-factor-precision;half" "--bogus")
+            "--mode;newton" "--stale-factor-precision;half" "--hessian-reuse-tolerance;-1e-3"
+            "--hessian-reuse-tolerance;x" "--hessian-reuse-tolerance;nan" "--bogus")
   list(GET bad 0 option)
   expect_refused("${HYPERELASTIC}" ${option} ${bad})
 endforeach()

@@ -15,26 +15,11 @@
 #include "engine/core/cpu_features.hpp"
 #include "engine/scene/scene.hpp"
 #include "engine/world.hpp"
+#include "tests/support/mixed_hyperelastic_model.hpp"
 
 using namespace sinew;
 
 namespace {
-
-// Four bodies whose elements interleave in the blocks' groups of four: Stable Neo-Hookean tets
-// (batched), neo-Hookean hexes (8 points: not batched), linear corotational hexes (not
-// hyperelastic: not visited) and neo-Hookean tets (batched: an invariant material too).
-Model mixed_model() {
-  const char* text = R"({"h": 0.01, "gravity": [0, 0, 0], "bodies": [
-    {"name": "snh_tets", "shape": [{"type": "box", "half_extents": [0.1, 0.05, 0.05]}], "cell_size": 0.05,
-     "elements": "tet", "material": {"model": "stable_neo_hookean", "E": 1e5, "nu": 0.45, "rho": 1000}},
-    {"name": "nh_hexes", "shape": [{"type": "box", "half_extents": [0.1, 0.05, 0.05], "center": [0, 0.3, 0]}],
-     "cell_size": 0.05, "elements": "hex", "material": {"model": "neo_hookean", "E": 1e5, "nu": 0.3, "rho": 1000}},
-    {"name": "corotational", "shape": [{"type": "box", "half_extents": [0.1, 0.05, 0.05], "center": [0, 0.6, 0]}],
-     "cell_size": 0.05, "elements": "hex", "material": {"model": "corotational", "E": 1e5, "nu": 0.3, "rho": 1000}},
-    {"name": "nh_tets", "shape": [{"type": "box", "half_extents": [0.05, 0.05, 0.05], "center": [0, 0.9, 0]}],
-     "cell_size": 0.05, "elements": "tet", "material": {"model": "neo_hookean", "E": 1e5, "nu": 0.3, "rho": 1000}}]})";
-  return build_model(parse_scene_text(text, "mixed", "."), [](const std::string&) {});
-}
 
 bool same_bits(const RotationVariantSvd& a, const RotationVariantSvd& b) {
   return std::memcmp(a.U.data(), b.U.data(), sizeof(double) * 9) == 0 &&
@@ -45,7 +30,7 @@ bool same_bits(const RotationVariantSvd& a, const RotationVariantSvd& b) {
 }  // namespace
 
 TEST_CASE("hyperelastic batches: every hyperelastic element once, SVDs where needed, the bits of one at a time") {
-  const Model model = mixed_model();
+  const Model model = test::mixed_hyperelastic_model();
   REQUIRE(model.bodies.size() == 4);
   // Deformed: every node moved by up to 1 cm, so that F differs from tet to tet.
   std::mt19937 rng(3);
@@ -97,7 +82,7 @@ TEST_CASE("hyperelastic batches: every hyperelastic element once, SVDs where nee
 }
 
 TEST_CASE("hyperelastic batches: each block's elements in index order") {
-  const Model model = mixed_model();
+  const Model model = test::mixed_hyperelastic_model();
   const VecX x = model.rest_x;
   // Per block, the elements visited, in the order visited (one block runs on one thread).
   std::vector<int> order;

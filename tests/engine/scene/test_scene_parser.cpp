@@ -395,6 +395,11 @@ TEST_CASE("scene parser: string and choice errors") {
   CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.stale_factor_precision == "double");
   scene["solver"] = {{"stale_factor_precision", "half"}};
   check_error(scene, "solver.stale_factor_precision: expected one of \"single\", \"double\", got \"half\"");
+  CHECK(sinew::parse_scene_text(minimal_scene().dump(), "test.json", "").solver.hessian_reuse_tolerance == 1e-3);
+  scene["solver"] = {{"hessian_reuse_tolerance", 0}};
+  CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.hessian_reuse_tolerance == 0);
+  scene["solver"] = {{"hessian_reuse_tolerance", -1e-3}};
+  check_error(scene, "solver.hessian_reuse_tolerance: expected a number >= 0, got -0.001");
 
   scene = minimal_scene();
   scene["bodies"][0]["shape"][0]["type"] = "cube";

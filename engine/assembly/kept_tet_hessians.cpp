@@ -1,0 +1,75 @@
+#include "engine/assembly/kept_tet_hessians.hpp"
+
+#include <immintrin.h>
+
+#include <algorithm>
+
+#include "engine/core/cpu_features.hpp"
+
+namespace sinew {
+
+void KeptTetHessians::prepare(int elements, int pattern_entries, double h2) {
+  if (static_cast<int>(F.size()) == elements && entries == pattern_entries && coeff == h2) return;
+  coeff = h2;
+  entries = pattern_entries;
+  F.assign(elements, Mat3::Zero());
+  kept.assign(elements, 0);
+  blocks.resize(elements);
+  fresh.assign(elements, 0);
+  values.assign(pattern_entries, 0.0);
+  formed = 0;
+  every_element_kept = -1;
+}
+
+void KeptTetHessians::clear() {
+  entries = -1;
+  F.clear();
+  kept.clear();
+  blocks.clear();
+  fresh.clear();
+  values.clear();
+  formed = 0;
+  every_element_kept = -1;
+}
+
+bool KeptTetHessians::needs_forming(int e, const Mat3& at, double tolerance) const {
+  if (!kept[e]) return true;
+  return !((at - F[e]).cwiseAbs().maxCoeff() <= tolerance);  // NaN: formed afresh
+}
+
+namespace {
+
+void add_kept_differences(double* values, const double* formed, const double* held, const int* at) {
+  for (int i = 0; i < 48; ++i) {
+    if (at[i] < 0) continue;
+    for (int r = 0; r < 3; ++r) values[at[i] + r] += formed[3 * i + r] - held[3 * i + r];
+  }
+}
+
+// The same three at a time under a mask (the fourth value, another column's, untouched):
+// the same operations, the same bits.
+__attribute__((target("avx2"))) void add_kept_differences_avx2(double* values, const double* formed,
+                                                          const double* held, const int* at) {
+  const __m256i three = _mm256_set_epi64x(0, -1, -1, -1);
+  for (int i = 0; i < 48; ++i) {
+    if (at[i] < 0) continue;
+    double* value = values + at[i];
+    const __m256d difference =
+        _mm256_sub_pd(_mm256_maskload_pd(formed + 3 * i, three), _mm256_maskload_pd(held + 3 * i, three));
+    _mm256_maskstore_pd(value, three, _mm256_add_pd(_mm256_maskload_pd(value, three), difference));
+  }
+}
+
+}  // namespace
+
+void KeptTetHessians::replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at) {
+  std::array<double, 144>& held = blocks[e];
+  if (!kept[e]) held.fill(0.0);
+  if (use_avx2()) add_kept_differences_avx2(values.data(), formed.data(), held.data(), at);
+  else add_kept_differences(values.data(), formed.data(), held.data(), at);
+  held = formed;
+  F[e] = at_F;
+  kept[e] = 1;
+}
+
+}  // namespace sinew
