@@ -31,7 +31,7 @@ SceneDesc drop_scene(const std::string& mesh_path, const MeshCase& mesh, int new
     "solver": {"newton_max_iterations": )" + std::to_string(newton_iterations) +
                            R"(, "newton_tolerance": )" + std::to_string(tolerance) +
                            R"(, "delassus_reuse": )" + std::to_string(delassus_reuse) +
-                           R"(, "refactor_interval": )" + std::to_string(refactor_interval) + R"(},
+                           R"(, "refactor_interval": )" + std::to_string(refactor_interval) + R"(, "sleep_steps": 0},
     "bodies": [{"name": ")" + mesh.name + R"(", "tet_mesh": ")" + mesh_path + R"(", "transform": )" +
                            mesh.transform + R"(,
       "material": {"model": "stable_neo_hookean", "E": 5e5, "nu": 0.45, "rho": 1000},
