@@ -32,9 +32,9 @@ struct EveryHessianWanted {
 };
 
 // visit(e, nodes, quad, given): given holds F = deformation_gradient(quad.dN_dX[0], nodes) and
-// its SVD for a one-point tet of an invariant material when `projected_hessians` and
-// wanted(e, F), else null (wanted false: that tet keeps an earlier Hessian, kept_tet_hessians.hpp,
-// and needs no SVD). `shared_writes` false: the visits write per-element results only, and the
+// its SVD for a one-point tet of an invariant material when `projected_hessians` (F alone,
+// svd null, where wanted(e, F) is false: that tet keeps an earlier Hessian,
+// kept_tet_hessians.hpp, and needs no SVD), else null. `shared_writes` false: the visits write per-element results only, and the
 // schedule's blocks run all at once instead of colour by colour.
 template <class Visit, class Wanted = EveryHessianWanted>
 void for_each_hyperelastic_element(const Model& model, const VecX& x, bool projected_hessians, const Visit& visit,
@@ -44,29 +44,39 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
       const int count = std::min(4, last - group);
       ElementNodes nodes[4];
       ElementQuadrature quads[4];
-      Mat3 F[4];
+      Mat3 F[4], own_F[4];  // the batch's (contiguous), and the tets' whose Hessian is kept
       RotationVariantSvd svds[4];
       int batched[4], in_batch = 0;
+      enum : char { kNone, kBatched, kKept } given_kind[4];
       for (int k = 0; k < count; ++k) {
         const int e = group + k;
-        batched[k] = -1;
+        given_kind[k] = kNone;
         if (!is_hyperelastic_element(model, e)) continue;
         nodes[k] = gather_element_nodes(model, x, e);
         quads[k] = element_quadrature(model, e);
         if (projected_hessians && is_one_point_invariant_tet(model, e, nodes[k].count, quads[k])) {
-          F[in_batch] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
-          if (wanted(e, F[in_batch])) batched[k] = in_batch++;
+          own_F[k] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
+          if (wanted(e, own_F[k])) {
+            F[in_batch] = own_F[k];
+            batched[k] = in_batch++;
+            given_kind[k] = kBatched;
+          } else {
+            given_kind[k] = kKept;
+          }
         }
       }
       compute_rotation_variant_svds(F, svds, in_batch);
       for (int k = 0; k < count; ++k) {
         if (!is_hyperelastic_element(model, group + k)) continue;
-        if (batched[k] < 0) {
+        if (given_kind[k] == kNone) {
           visit(group + k, nodes[k], quads[k], nullptr);
-          continue;
+        } else if (given_kind[k] == kKept) {
+          const GivenDeformation given{own_F[k], nullptr};
+          visit(group + k, nodes[k], quads[k], &given);
+        } else {
+          const GivenDeformation given{F[batched[k]], &svds[batched[k]]};
+          visit(group + k, nodes[k], quads[k], &given);
         }
-        const GivenDeformation given{F[batched[k]], svds[batched[k]]};
-        visit(group + k, nodes[k], quads[k], &given);
       }
     }
   };

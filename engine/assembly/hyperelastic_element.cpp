@@ -173,7 +173,7 @@ double sum_over_points(const Material& material, const ElementQuadrature& quad, 
     const Mat83& dN = quad.dN_dX[q];
     Mat3 P;
     energy += add_point(material, given ? given->F : deformation_gradient(dN, nodes), dN, n, quad.weight, P,
-                        hessian, exact, given ? &given->svd : nullptr);
+                        hessian, exact, given ? given->svd : nullptr);
     for (int a = 0; a < n; ++a) {
       const Vec3 term = quad.weight * (P * dN.row(a).transpose());
       if (q == 0) gradient.template segment<3>(3 * a) = Vec3::Zero() + term;

@@ -34,11 +34,12 @@ double hyperelastic_element_derivatives(const Material& material, const ElementQ
 // The same for a tet (nodes.count 4, no mean dilatation) in 12 x 12: the same code
 // (sum_over_points), so the entries equal the padded version's bit for bit, without
 // zeroing and scattering a 24 x 24 matrix that is three-quarters padding.
-// given: the tet's F (deformation_gradient(quad.dN_dX[0], nodes)) and its SVD, when the
-// caller has them (a batch, hyperelastic_batches.hpp): the same results, bit for bit.
+// given: the tet's F (deformation_gradient(quad.dN_dX[0], nodes)) and its SVD (or null: F
+// alone, a tet whose Hessian is kept), when the caller has them (a batch,
+// hyperelastic_batches.hpp): the same results, bit for bit.
 struct GivenDeformation {
   const Mat3& F;
-  const RotationVariantSvd& svd;
+  const RotationVariantSvd* svd;
 };
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, Mat12* hessian,

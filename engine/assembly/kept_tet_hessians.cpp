@@ -3,6 +3,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "engine/core/cpu_features.hpp"
 
@@ -14,11 +15,17 @@ void KeptTetHessians::prepare(int elements, int pattern_entries, double h2) {
   entries = pattern_entries;
   F.assign(elements, Mat3::Zero());
   kept.assign(elements, 0);
-  blocks.resize(elements);
+  blocks.clear();  // sized by allocate_blocks, once some element is known to keep its Hessian
   fresh.assign(elements, 0);
-  values.assign(pattern_entries, 0.0);
+  values.clear();
   formed = 0;
-  every_element_kept = -1;
+  every_element_kept = any_element_kept = -1;
+  cancelled = false;
+}
+
+void KeptTetHessians::allocate_blocks() {
+  blocks.resize(F.size());
+  values.assign(static_cast<size_t>(std::max(entries, 0)), 0.0);
 }
 
 void KeptTetHessians::clear() {
@@ -29,7 +36,24 @@ void KeptTetHessians::clear() {
   fresh.clear();
   values.clear();
   formed = 0;
-  every_element_kept = -1;
+  every_element_kept = any_element_kept = -1;
+  cancelled = false;
+}
+
+KeptTetHessians& KeptTetHessians::operator=(const KeptTetHessians& other) {
+  if (this == &other) return *this;
+  coeff = other.coeff;
+  entries = other.entries;
+  F = other.F;
+  kept = other.kept;
+  blocks = other.blocks;
+  values = other.values;
+  fresh = other.fresh;
+  formed = other.formed;
+  every_element_kept = other.every_element_kept;
+  any_element_kept = other.any_element_kept;
+  cancelled = other.cancelled.load();
+  return *this;
 }
 
 bool KeptTetHessians::needs_forming(int e, const Mat3& at, double tolerance) const {
@@ -65,11 +89,30 @@ __attribute__((target("avx2"))) void add_kept_differences_avx2(double* values, c
 void KeptTetHessians::replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at) {
   std::array<double, 144>& held = blocks[e];
   if (!kept[e]) held.fill(0.0);
+  // Blocks 1e4 times smaller than those they replace leave the sum with the large ones'
+  // round-off, 1e4 u ~ 2e-12 of the new entries or more: sum anew after the pass.
+  double largest_held = 0, largest_formed = 0;
+  for (int i = 0; i < 144; ++i)
+    largest_held = std::max(largest_held, std::abs(held[i])), largest_formed = std::max(largest_formed, std::abs(formed[i]));
+  if (largest_held > 1e4 * largest_formed) cancelled.store(true, std::memory_order_relaxed);
   if (use_avx2()) add_kept_differences_avx2(values.data(), formed.data(), held.data(), at);
   else add_kept_differences(values.data(), formed.data(), held.data(), at);
   held = formed;
   F[e] = at_F;
   kept[e] = 1;
+}
+
+void KeptTetHessians::rebuild(const std::vector<int>& element_scatter, const std::vector<int>& scatter_begin) {
+  std::fill(values.begin(), values.end(), 0.0);
+  for (size_t e = 0; e < kept.size(); ++e) {
+    if (!kept[e]) continue;
+    const int* at = element_scatter.data() + scatter_begin[e];
+    for (int i = 0; i < 48; ++i) {
+      if (at[i] < 0) continue;
+      for (int r = 0; r < 3; ++r) values[at[i] + r] += blocks[e][3 * i + r];
+    }
+  }
+  cancelled = false;
 }
 
 }  // namespace sinew

@@ -7,6 +7,7 @@
 // pass costs only the tets that moved. A resting or falling body's Hessian pass then costs
 // little more than its gradient pass.
 #include <array>
+#include <atomic>
 #include <vector>
 
 #include "engine/core/types.hpp"
@@ -23,20 +24,36 @@ struct KeptTetHessians {
   // Set by each pass: per element, whether this pass formed its blocks afresh.
   std::vector<char> fresh;
   long formed = 0;         // tets formed afresh by the last pass (the rest kept theirs)
-  // Whether every hyperelastic element is such a tet (-1: not yet known; reset with the rest):
-  // a pass then writes the hyperelastic part of the values whole (hyperelastic_derivatives).
-  int every_element_kept = -1;
+  // Whether every hyperelastic element is such a tet, and whether any is (-1: not yet known;
+  // reset with the rest): with every one a pass writes the hyperelastic part of the values
+  // whole (hyperelastic_derivatives); with none the store is not used.
+  int every_element_kept = -1, any_element_kept = -1;
+  // Set by replace when blocks were replaced by ones far smaller (a transient near a
+  // degenerate F: neo-Hookean's volume terms reach ~1e13 of a normal entry): values then
+  // hold the round-off of the large ones, ~u of them, and are summed anew (rebuild).
+  std::atomic<bool> cancelled{false};
 
   // Sized for `elements` tets and `entries` values at coefficient `h2`; drops everything held
   // unless those match what it holds.
   void prepare(int elements, int entries, double h2);
   void clear();  // drops everything (a new pattern: another awake set)
+  // The blocks and the sum, once some element keeps its Hessian (a model without such tets
+  // holds neither: 1,152 bytes an element).
+  void allocate_blocks();
   // Whether a tet at F must be formed afresh (none held, or F moved past the tolerance).
   bool needs_forming(int e, const Mat3& F, double tolerance) const;
   // Tet e's blocks become `formed` (coeff K laid out as `blocks`), formed at F: values gains
   // formed - held at the tet's 48 scatter positions `at` (SystemPattern::element_scatter; a
   // negative one, a fixed node's, is skipped).
   void replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at);
+  // values summed anew from the held blocks, element by element in index order (the same
+  // for any thread count), at the system pattern's scatter positions (element e's from
+  // element_scatter[scatter_begin[e]]).
+  void rebuild(const std::vector<int>& element_scatter, const std::vector<int>& scatter_begin);
+
+  KeptTetHessians() = default;
+  KeptTetHessians(const KeptTetHessians& other) { *this = other; }
+  KeptTetHessians& operator=(const KeptTetHessians& other);
 };
 
 }  // namespace sinew

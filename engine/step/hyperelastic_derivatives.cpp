@@ -36,16 +36,34 @@ double form_kept_tet_hessian(const Model& model, int e, const Material& material
 
 }  // namespace
 
-bool keeps_every_hessian(const Model& model, KeptTetHessians& kept) {
+namespace {
+
+// Fills kept.every_element_kept and kept.any_element_kept (once per model and pattern).
+void classify_kept_elements(const Model& model, KeptTetHessians& kept) {
   kept.prepare(model.num_elements, static_cast<int>(model.pattern.matrix.nonZeros()), model.h * model.h);
-  if (kept.every_element_kept < 0) {
-    bool every = true;
-    for (int e = 0; e < model.num_elements && every; ++e)
-      if (is_hyperelastic_element(model, e))
-        every = is_one_point_invariant_tet(model, e, element_node_count(model, e), element_quadrature(model, e));
-    kept.every_element_kept = every ? 1 : 0;
+  if (kept.every_element_kept >= 0) return;
+  bool every = true, any = false;
+  for (int e = 0; e < model.num_elements; ++e) {
+    if (!is_hyperelastic_element(model, e)) continue;
+    const bool keeps = is_one_point_invariant_tet(model, e, element_node_count(model, e), element_quadrature(model, e));
+    every = every && keeps;
+    any = any || keeps;
   }
+  kept.every_element_kept = every ? 1 : 0;
+  kept.any_element_kept = any ? 1 : 0;
+  if (any) kept.allocate_blocks();
+}
+
+}  // namespace
+
+bool keeps_every_hessian(const Model& model, KeptTetHessians& kept) {
+  classify_kept_elements(model, kept);
   return kept.every_element_kept == 1;
+}
+
+bool keeps_any_hessian(const Model& model, KeptTetHessians& kept) {
+  classify_kept_elements(model, kept);
+  return kept.any_element_kept == 1;
 }
 
 void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
@@ -56,6 +74,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
   // is formed whole).
   if (!values || exact) kept = nullptr;
   enum : char { kDirect = 0, kFresh = 1, kKept = 2 };  // kept->fresh per element this pass
+  if (kept && !keeps_any_hessian(model, *kept)) kept = nullptr;  // no element could use it
   if (kept) {
     if (!keeps_every_hessian(model, *kept) && overwrite)
       throw std::logic_error("hyperelastic_derivatives: overwriting values where some Hessians are not kept");
@@ -80,8 +99,8 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
       const char pass = kept ? kept->fresh[e] : static_cast<char>(kDirect);
-      if (pass == kKept) {  // its kept blocks stand in kept->values
-        energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, nullptr, nullptr);
+      if (pass == kKept) {  // its kept blocks stand in kept->values; given: its F alone
+        energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, nullptr, given);
       } else if (pass == kFresh) {
         energy[e] = form_kept_tet_hessian(model, e, material, quad, nodes, *given, g, *kept);
       } else if (values && exact) {
@@ -117,6 +136,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     long formed = 0;
     for (char pass : kept->fresh) formed += pass == kFresh;
     kept->formed = formed;
+    if (kept->cancelled) kept->rebuild(model.pattern.element_scatter, model.pattern.scatter_begin);
     // The kept blocks' sum joins the elements scattered directly (entry by entry: the same
     // bits for any thread count).
     const int entries = kept->entries;

@@ -31,5 +31,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
 // whether every hyperelastic element keeps its Hessian there (one-point tets of invariant
 // materials), so that a pass can overwrite the values instead of adding to zeros.
 bool keeps_every_hessian(const Model& model, KeptTetHessians& kept);
+// Whether any does (else a pass leaves `kept` unused).
+bool keeps_any_hessian(const Model& model, KeptTetHessians& kept);
 
 }  // namespace sinew

@@ -194,7 +194,7 @@ TEST_CASE("hyperelastic element: the 12 x 12 tet path equals the padded one bit 
       // With F and its SVD given (solve_newton's batches): the same bits.
       const Mat3 F = deformation_gradient(dN, nodes);
       const RotationVariantSvd svd = compute_rotation_variant_svd(F);
-      const GivenDeformation given{F, svd};
+      const GivenDeformation given{F, &svd};
       Vec12 g_svd;
       Mat12 K_svd;
       const double e_svd = hyperelastic_tet_derivatives(*material, quad, nodes, g_svd, &K_svd, &given);
