@@ -24,7 +24,7 @@ foreach(bad "--steps;x" "--steps;0" "--warmup;-1" "--threads;0" "--scene;no_such
             "--scene-file;${OUT}/missing.json" "--scene-file;${OUT}/malformed/s.json"
             "--scene-file;${OUT}/a/paper000_sphere_1MPa.json;--scene-file;${OUT}/b/paper000_sphere_1MPa.json"
             "--scene-file;--paper-scenes" "--paper-scenes;--scene;beam56" "--linear;lu" "--repeat;0"
-            "--repeat;two")
+            "--repeat;two" "--hessian-reuse-tolerance;-1e-3" "--hessian-reuse-tolerance;x")
   execute_process(COMMAND "${BENCH}" ${bad} --out "${json_file}" RESULT_VARIABLE code OUTPUT_QUIET
                   ERROR_VARIABLE stderr)
   if(NOT code EQUAL 2 OR stderr STREQUAL "")
