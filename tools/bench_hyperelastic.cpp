@@ -36,7 +36,7 @@ namespace {
 
 struct Samples {
   std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints, preconditioned, fallbacks,
-      factorizations;
+      factorizations, hessians_formed;
   bool finite = true;
 };
 
@@ -59,6 +59,8 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
     // without positive curvature, each replaced by a factorisation.
     s.fallbacks.push_back(count("newton_pcg_fallbacks"));
     s.factorizations.push_back(static_cast<double>(p.work.factorizations));
+    // Tets whose projected Hessian was formed afresh (the others kept one: hessian_reuse_tolerance).
+    s.hessians_formed.push_back(count("newton_hessians_formed"));
     s.assemble.push_back(ms(Stage::Assemble));
     s.factorize.push_back(ms(Stage::Factorize));
     s.solve.push_back(ms(Stage::Solve));
@@ -148,11 +150,12 @@ int main(int argc, char** argv) {
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "
                       "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step; factorisations "
-                      "%.2f, preconditioned CG iterations %.2f (converged solves) and CG fallbacks %.2f per step (means)%s\n",
+                      "%.2f, preconditioned CG iterations %.2f (converged solves), CG fallbacks %.2f and tet Hessians formed "
+                      "%.0f per step (means)%s\n",
                       mesh.name.c_str(), mode, threads, median(s.step_ms), median(s.assemble), median(s.factorize),
                       median(s.solve), median(s.constraints), median(s.newton),
                       s.newton.empty() ? 0.0 : *std::max_element(s.newton.begin(), s.newton.end()), median(s.linear),
-                      mean(s.factorizations), mean(s.preconditioned), mean(s.fallbacks),
+                      mean(s.factorizations), mean(s.preconditioned), mean(s.fallbacks), mean(s.hessians_formed),
                       s.finite ? "" : "  (stopped: non-finite)");
           std::fflush(stdout);
           results["runs"].push_back({{"mesh", mesh.name}, {"mode", mode}, {"threads", threads},
@@ -165,6 +168,7 @@ int main(int argc, char** argv) {
                                      {"linear_median", median(s.linear)}, {"factorizations_mean", mean(s.factorizations)},
                                      {"preconditioned_cg_mean", mean(s.preconditioned)},
                                      {"preconditioned_cg_fallbacks_mean", mean(s.fallbacks)},
+                                     {"hessians_formed_mean", mean(s.hessians_formed)},
                                      {"timed_steps", s.step_ms.size()}});
         } catch (const InputError& e) {
           std::fprintf(stderr, "%s\n", e.what());
