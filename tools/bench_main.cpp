@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -18,6 +17,7 @@
 #include "engine/io/stats_summary.hpp"
 #include "engine/simulate_frame.hpp"
 #include "tools/bench_common.hpp"
+#include "tools/cli_options.hpp"
 
 using namespace sinew;
 
@@ -258,9 +258,7 @@ void print_usage(std::FILE* to) {
 }
 
 // A bad command line: the message, and exit code 2 (thrown so that nothing is written).
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+using cli::UsageError;
 
 // An integer option's value in [min, 10^7].
 int integer_option(const std::string& option, const std::string& text, int min) {
@@ -276,15 +274,6 @@ int integer_option(const std::string& option, const std::string& text, int min) 
     throw UsageError(option + " expects an integer from " + std::to_string(min) + " to " + std::to_string(kMax) +
                      ", got '" + text + "'");
   return static_cast<int>(value);
-}
-
-// A finite number >= 0 (a tolerance that 0 turns off).
-double nonnegative_option(const std::string& option, const std::string& text) {
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || value < 0)
-    throw UsageError(option + " expects a number >= 0, got '" + text + "'");
-  return value;
 }
 
 struct Options {
@@ -324,7 +313,7 @@ Options parse_options(int argc, char** argv) {
     else if (arg == "--pgs-sweeps") o.set.pgs_sweeps = one_of(next(), {"active_set", "all_rows"});
     else if (arg == "--sqp-acceleration") o.set.sqp_acceleration = one_of(next(), {"conjugate", "none"});
     else if (arg == "--stale-factor-precision") o.set.stale_factor_precision = one_of(next(), {"single", "double"});
-    else if (arg == "--hessian-reuse-tolerance") o.set.hessian_reuse_tolerance = nonnegative_option(arg, next());
+    else if (arg == "--hessian-reuse-tolerance") o.set.hessian_reuse_tolerance = cli::parse_nonnegative(next(), arg);
     else if (arg == "--help" || arg == "-h") o.help = true;
     else throw UsageError("unknown option '" + arg + "' (see --help)");
   }

@@ -16,6 +16,14 @@ int parse_int(const std::string& text, const std::string& what, int min_value) {
   return value;
 }
 
+double parse_nonnegative(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || value < 0)
+    throw UsageError(what + " expects a number >= 0, got '" + text + "'");
+  return value;
+}
+
 Options::Options(std::string usage, std::string summary, std::vector<OptionSpec> specs, int positional,
                  int max_positional)
     : m_usage(std::move(usage)), m_summary(std::move(summary)), m_specs(std::move(specs)),
@@ -98,13 +106,7 @@ double Options::get_double(const std::string& name, double fallback, double min_
 }
 
 double Options::get_nonnegative(const std::string& name, double fallback) const {
-  if (!has(name)) return fallback;
-  const std::string text = get(name);
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || value < 0)
-    throw UsageError("option " + name + " expects a number >= 0, got '" + text + "'");
-  return value;
+  return has(name) ? parse_nonnegative(get(name), "option " + name) : fallback;
 }
 
 }  // namespace sinew::cli

@@ -21,6 +21,8 @@ struct UsageError : std::runtime_error {
 
 // `text` as an integer of at least `min_value`; else UsageError naming `what`.
 int parse_int(const std::string& text, const std::string& what, int min_value);
+// `text` as a finite number >= 0 (a tolerance that 0 turns off); else UsageError naming `what`.
+double parse_nonnegative(const std::string& text, const std::string& what);
 
 class Options {
  public:
@@ -36,7 +38,7 @@ class Options {
   std::string get(const std::string& name, const std::string& fallback = "") const;
   int get_int(const std::string& name, int fallback, int min_value) const;
   double get_double(const std::string& name, double fallback, double min_exclusive) const;
-  // A finite number >= 0 (a tolerance that 0 turns off).
+  // parse_nonnegative of the option's value.
   double get_nonnegative(const std::string& name, double fallback) const;
   // The value of option `name`, which must be one of `allowed` (UsageError naming both
   // otherwise); "" when not given.

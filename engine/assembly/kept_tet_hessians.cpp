@@ -20,7 +20,6 @@ void KeptTetHessians::prepare(int elements, int pattern_entries, double h2) {
   values.clear();
   formed = 0;
   every_element_kept = any_element_kept = -1;
-  cancelled = false;
 }
 
 void KeptTetHessians::allocate_blocks() {
@@ -37,23 +36,6 @@ void KeptTetHessians::clear() {
   values.clear();
   formed = 0;
   every_element_kept = any_element_kept = -1;
-  cancelled = false;
-}
-
-KeptTetHessians& KeptTetHessians::operator=(const KeptTetHessians& other) {
-  if (this == &other) return *this;
-  coeff = other.coeff;
-  entries = other.entries;
-  F = other.F;
-  kept = other.kept;
-  blocks = other.blocks;
-  values = other.values;
-  fresh = other.fresh;
-  formed = other.formed;
-  every_element_kept = other.every_element_kept;
-  any_element_kept = other.any_element_kept;
-  cancelled = other.cancelled.load();
-  return *this;
 }
 
 bool KeptTetHessians::needs_forming(int e, const Mat3& at, double tolerance) const {
@@ -86,20 +68,20 @@ __attribute__((target("avx2"))) void add_kept_differences_avx2(double* values, c
 
 }  // namespace
 
-void KeptTetHessians::replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at) {
+bool KeptTetHessians::replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at) {
   std::array<double, 144>& held = blocks[e];
   if (!kept[e]) held.fill(0.0);
   // Blocks 1e4 times smaller than those they replace leave the sum with the large ones'
-  // round-off, 1e4 u ~ 2e-12 of the new entries or more: sum anew after the pass.
+  // round-off, 1e4 u ~ 2e-12 of the new entries or more: summed anew after the pass.
   double largest_held = 0, largest_formed = 0;
   for (int i = 0; i < 144; ++i)
     largest_held = std::max(largest_held, std::abs(held[i])), largest_formed = std::max(largest_formed, std::abs(formed[i]));
-  if (largest_held > 1e4 * largest_formed) cancelled.store(true, std::memory_order_relaxed);
   if (use_avx2()) add_kept_differences_avx2(values.data(), formed.data(), held.data(), at);
   else add_kept_differences(values.data(), formed.data(), held.data(), at);
   held = formed;
   F[e] = at_F;
   kept[e] = 1;
+  return largest_held > 1e4 * largest_formed;
 }
 
 void KeptTetHessians::rebuild(const std::vector<int>& element_scatter, const std::vector<int>& scatter_begin) {
@@ -112,7 +94,6 @@ void KeptTetHessians::rebuild(const std::vector<int>& element_scatter, const std
       for (int r = 0; r < 3; ++r) values[at[i] + r] += blocks[e][3 * i + r];
     }
   }
-  cancelled = false;
 }
 
 }  // namespace sinew

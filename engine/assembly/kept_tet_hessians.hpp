@@ -7,7 +7,6 @@
 // pass costs only the tets that moved. A resting or falling body's Hessian pass then costs
 // little more than its gradient pass.
 #include <array>
-#include <atomic>
 #include <vector>
 
 #include "engine/core/types.hpp"
@@ -28,10 +27,6 @@ struct KeptTetHessians {
   // reset with the rest): with every one a pass writes the hyperelastic part of the values
   // whole (hyperelastic_derivatives); with none the store is not used.
   int every_element_kept = -1, any_element_kept = -1;
-  // Set by replace when blocks were replaced by ones far smaller (a transient near a
-  // degenerate F: neo-Hookean's volume terms reach ~1e13 of a normal entry): values then
-  // hold the round-off of the large ones, ~u of them, and are summed anew (rebuild).
-  std::atomic<bool> cancelled{false};
 
   // Sized for `elements` tets and `entries` values at coefficient `h2`; drops everything held
   // unless those match what it holds.
@@ -44,16 +39,14 @@ struct KeptTetHessians {
   bool needs_forming(int e, const Mat3& F, double tolerance) const;
   // Tet e's blocks become `formed` (coeff K laid out as `blocks`), formed at F: values gains
   // formed - held at the tet's 48 scatter positions `at` (SystemPattern::element_scatter; a
-  // negative one, a fixed node's, is skipped).
-  void replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at);
+  // negative one, a fixed node's, is skipped). True when the held blocks were far larger
+  // (a transient near a degenerate F: neo-Hookean's volume terms reach ~1e13 of a normal
+  // entry): values then hold their round-off, ~u of them, and want summing anew (rebuild).
+  bool replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at);
   // values summed anew from the held blocks, element by element in index order (the same
   // for any thread count), at the system pattern's scatter positions (element e's from
   // element_scatter[scatter_begin[e]]).
   void rebuild(const std::vector<int>& element_scatter, const std::vector<int>& scatter_begin);
-
-  KeptTetHessians() = default;
-  KeptTetHessians(const KeptTetHessians& other) { *this = other; }
-  KeptTetHessians& operator=(const KeptTetHessians& other);
 };
 
 }  // namespace sinew

@@ -17,6 +17,11 @@ namespace sinew {
 
 namespace {
 
+// kept->fresh per element in a pass: its Hessian scattered straight into the values (not a
+// one-point invariant tet), formed afresh into its kept blocks (after larger ones: the kept
+// sum is summed anew after the pass, KeptTetHessians::replace), or kept.
+enum KeptPass : char { kDirect = 0, kFresh = 1, kFreshAfterLarger = 2, kKept = 3 };
+
 // A tet's projected Hessian formed afresh into its kept blocks, and kept->values changed by
 // the difference from the blocks it held (none: zeros). Its energy; its gradient into g.
 double form_kept_tet_hessian(const Model& model, int e, const Material& material, const ElementQuadrature& quad,
@@ -30,13 +35,9 @@ double form_kept_tet_hessian(const Model& model, int e, const Material& material
   alignas(32) std::array<double, 144> formed{};
   const TetHessianScatter local{positions, kept.coeff, formed.data()};
   const double energy = hyperelastic_tet_derivatives(material, quad, nodes, g, local, &given);
-  kept.replace(e, given.F, formed, at);
+  if (kept.replace(e, given.F, formed, at)) kept.fresh[e] = kFreshAfterLarger;
   return energy;
 }
-
-}  // namespace
-
-namespace {
 
 // Fills kept.every_element_kept and kept.any_element_kept (once per model and pattern).
 void classify_kept_elements(const Model& model, KeptTetHessians& kept) {
@@ -73,7 +74,6 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
   // Kept Hessians only for the projected ones (the exact Hessian of Newton's last iterations
   // is formed whole).
   if (!values || exact) kept = nullptr;
-  enum : char { kDirect = 0, kFresh = 1, kKept = 2 };  // kept->fresh per element this pass
   if (kept && !keeps_any_hessian(model, *kept)) kept = nullptr;  // no element could use it
   if (kept) {
     if (!keeps_every_hessian(model, *kept) && overwrite)
@@ -134,9 +134,13 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     };
     for_each_hyperelastic_element(model, x, true, visit, true, wanted);
     long formed = 0;
-    for (char pass : kept->fresh) formed += pass == kFresh;
+    bool after_larger = false;
+    for (char pass : kept->fresh) {
+      formed += pass == kFresh || pass == kFreshAfterLarger;
+      after_larger = after_larger || pass == kFreshAfterLarger;
+    }
     kept->formed = formed;
-    if (kept->cancelled) kept->rebuild(model.pattern.element_scatter, model.pattern.scatter_begin);
+    if (after_larger) kept->rebuild(model.pattern.element_scatter, model.pattern.scatter_begin);
     // The kept blocks' sum joins the elements scattered directly (entry by entry: the same
     // bits for any thread count).
     const int entries = kept->entries;

@@ -9,27 +9,18 @@
 
 #include "engine/step/stages.hpp"
 #include "engine/world.hpp"
+#include "tests/engine/step/snh_landing_box.hpp"
 
 using namespace sinew;
 
 namespace {
 
 World landing_box(int newton_iterations) {
-  const std::string text = R"({"h": 0.0166666666666667,
-    "solver": {"newton_max_iterations": )" + std::to_string(newton_iterations) +
-                           R"(, "refactor_interval": 8, "delassus_reuse": 8},
-    "bodies": [{"name": "box", "shape": [{"type": "box", "half_extents": [0.15, 0.1, 0.1]}],
-      "transform": {"translate": [0, 0.15, 0], "rotation_deg": [0, 0, 8]}, "cell_size": 0.05,
-      "elements": "tet", "material": {"model": "stable_neo_hookean", "E": 200000.0, "nu": 0.45, "rho": 1000},
-      "damping": {"mass": 1}}],
-    "obstacles": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "friction": 0.5}]})";
-  return World(build_model(parse_scene_text(text, "landing_box", "."), [](const std::string&) {}));
+  return test::snh_landing_box("\"newton_max_iterations\": " + std::to_string(newton_iterations) +
+                               ", \"refactor_interval\": 8, \"delassus_reuse\": 8");
 }
 
-int iterations(const StepProfile& profile, const char* name) {
-  const auto it = profile.iterations.find(name);
-  return it == profile.iterations.end() ? 0 : it->second;
-}
+int iterations(const StepProfile& profile, const char* name) { return test::iteration_count(profile, name); }
 
 }  // namespace
 
