@@ -51,6 +51,7 @@ struct StepScratch {
   VecX newton_A0_diagonal;  // A0's diagonal, when that is all of A0 (solve_newton)
   VecX newton_x0, newton_b0, newton_predicted_impulse, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
       negative_gradient, dPsi_trial;
+  VecX newton_model_v, newton_model_gradient;  // Newton's last iteration: its start, and the model's gradient at its end
   std::vector<double> psi, psi_trial, force2, force2_trial;
   std::vector<Vec24> element_gradients;  // hyperelastic_derivatives' per-element gradients
 };
