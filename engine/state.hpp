@@ -51,7 +51,6 @@ struct StepScratch {
   VecX newton_A0_diagonal;  // A0's diagonal, when that is all of A0 (solve_newton)
   VecX newton_x0, newton_b0, newton_predicted_impulse, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
       negative_gradient, dPsi_trial;
-  VecX newton_model_v, newton_model_gradient;  // Newton's last iteration: its start, and the model's gradient at its end
   std::vector<double> psi, psi_trial, force2, force2_trial;
   std::vector<Vec24> element_gradients;  // hyperelastic_derivatives' per-element gradients
 };
@@ -81,6 +80,10 @@ struct State {
   bool constraint_impulse_steady = false;  // ... and changed by at most 10 % from the step before's
                                            // (the predictor's condition, solve_constraints.cpp)
   bool impulse_predicted = false;    // this step's Newton solve included it (solve_newton)
+  // rhs - system v_free at Newton's result, formed without a product (solve_newton; read by
+  // solve_constraints in place of rhs, which Newton leaves as stage 1's b); known only then.
+  VecX model_residual;
+  bool model_residual_known = false;
   TouchedInverse touched_inverse;    // H^-1 on the nodes rows touch, per factorisation (constraints)
   long touched_inverse_step = 0;     // step_count when touched_inverse was first filled after a reset
   int touched_inverse_first_nodes = 0;  // its touched nodes after that first fill

@@ -214,6 +214,7 @@ bool World::attempt_step() {
   s.step_violation = 0;
   s.step_limit_violation = 0;
   s.impulse_predicted = false;  // solve_newton sets it for this step
+  s.model_residual_known = false;  // and this
   m_budget_guard_tripped = false;
   const SolverDesc& cfg = m_model.solver;
   const auto lowered = [](int cap, int scene_cap) { return cap > 0 && cap < scene_cap; };

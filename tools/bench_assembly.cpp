@@ -1,9 +1,8 @@
 // sinew_bench_assembly: the hyperelastic pass of Newton's steps alone
 // (engine/step/hyperelastic_derivatives.hpp) on paper 003's drop (tools/hyperelastic_drop.hpp)
 // after --settle steps, when the body has landed and is deformed: with projected Hessians
-// scattered into the system matrix (each Newton iteration's assembly), without (the line
-// search's trials), and energies alone (the trials of Newton's last iteration), on 1 and 2
-// threads. The three passes alternate call by call so that the
+// scattered into the system matrix (each Newton iteration's assembly) and without (the line
+// search's trials), on 1 and 2 threads. The two passes alternate call by call so that the
 // machine's drift touches both alike; medians and minima (the least disturbed call) in ms and
 // ns a tet. A whole step's figures are sinew_bench_hyperelastic's; this one isolates the pass
 // that most of them spend on. A mesh whose files are absent is skipped.
@@ -31,7 +30,7 @@ using namespace sinew;
 namespace {
 
 struct PassTimes {
-  std::vector<double> hessian_ms, gradient_ms, energy_ms;
+  std::vector<double> hessian_ms, gradient_ms;
 };
 
 double elapsed_ms(std::chrono::steady_clock::time_point since) {
@@ -54,9 +53,6 @@ PassTimes time_passes(const Model& model, const VecX& x, const SparseMatrix& pat
     begin = std::chrono::steady_clock::now();
     hyperelastic_derivatives(model, x, false, energy, force2, gradient, nullptr, element_gradients);
     if (k > 0) times.gradient_ms.push_back(elapsed_ms(begin));
-    begin = std::chrono::steady_clock::now();
-    hyperelastic_energies(model, x, energy);
-    if (k > 0) times.energy_ms.push_back(elapsed_ms(begin));
   }
   return times;
 }
@@ -71,9 +67,8 @@ int main(int argc, char** argv) {
       "sinew_bench_assembly [OPTION...]",
       "The hyperelastic pass of a Newton iteration alone (energies, gradient and projected Hessians\n"
       "scattered into the system matrix; and energies and gradient only, as the line search's\n"
-      "trials; and energies alone, as the trials of Newton's last iteration) on the landed\n"
-      "Stable Neo-Hookean drops of bunny_5 and cube_20 (../shared/meshes/tet/), on 1 and 2\n"
-      "threads, the three passes alternating call by call.\n"
+      "trials) on the landed Stable Neo-Hookean drops of bunny_5 and cube_20\n"
+      "(../shared/meshes/tet/), on 1 and 2 threads, the two passes alternating call by call.\n"
       "Prints medians and minima in ms and ns a tet; JSON out. A mesh whose files are absent is\n"
       "skipped.",
       {{"--repeats", "N", "timed calls of each pass per mesh and thread count (default 100)"},
@@ -120,18 +115,16 @@ int main(int argc, char** argv) {
         const PassTimes t = time_passes(model, world.state().x, world.state().system, repeats);
         const double per_tet = 1e6 / model.num_elements;  // ms -> ns a tet
         std::printf("%-8s threads %d: Hessian pass median %.3f ms (min %.3f; %.0f ns a tet), gradient pass median "
-                    "%.3f ms (min %.3f; %.0f ns a tet), energy pass median %.3f ms (min %.3f)\n",
+                    "%.3f ms (min %.3f; %.0f ns a tet)\n",
                     mesh.name.c_str(), threads, quantile(t.hessian_ms, 0.5), minimum(t.hessian_ms),
                     quantile(t.hessian_ms, 0.5) * per_tet, quantile(t.gradient_ms, 0.5), minimum(t.gradient_ms),
-                    quantile(t.gradient_ms, 0.5) * per_tet, quantile(t.energy_ms, 0.5), minimum(t.energy_ms));
+                    quantile(t.gradient_ms, 0.5) * per_tet);
         std::fflush(stdout);
         results["runs"].push_back({{"mesh", mesh.name}, {"threads", threads}, {"tets", model.num_elements},
                                    {"hessian_ms_median", quantile(t.hessian_ms, 0.5)},
                                    {"hessian_ms_min", minimum(t.hessian_ms)},
                                    {"gradient_ms_median", quantile(t.gradient_ms, 0.5)},
-                                   {"gradient_ms_min", minimum(t.gradient_ms)},
-                                   {"energy_ms_median", quantile(t.energy_ms, 0.5)},
-                                   {"energy_ms_min", minimum(t.energy_ms)}});
+                                   {"gradient_ms_min", minimum(t.gradient_ms)}});
       }
     } catch (const InputError& e) {
       std::fprintf(stderr, "%s\n", e.what());

@@ -165,12 +165,4 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
   });
 }
 
-void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double>& energy) {
-  energy.assign(model.num_elements, 0.0);
-  const auto visit = [&](int e, const ElementNodes& nodes, const ElementQuadrature& quad, const GivenDeformation*) {
-    energy[e] = hyperelastic_element_energy(*model.bodies[model.element_body[e]].hyperelastic, quad, nodes);
-  };
-  for_each_hyperelastic_element(model, x, false, visit, false);
-}
-
 }  // namespace sinew

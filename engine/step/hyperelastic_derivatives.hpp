@@ -27,11 +27,6 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
                               std::vector<Vec24>& element_gradients, KeptTetHessians* kept = nullptr,
                               double reuse_tolerance = 0, bool overwrite = false);
 
-// Per-element energies alone (+infinity where undefined), the same bits as
-// hyperelastic_derivatives' `energy`: the line search's trials at Newton's last iteration,
-// whose gradient nothing reads (solve_newton.cpp).
-void hyperelastic_energies(const Model& model, const VecX& x, std::vector<double>& energy);
-
 // Sizes `kept` for the model (dropping what it holds if the pattern or h changed) and tells
 // whether every hyperelastic element keeps its Hessian there (one-point tets of invariant
 // materials), so that a pass can overwrite the values instead of adding to zeros.

@@ -319,6 +319,17 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   sc.sqp_feasible.resize(v_free.size());
   sc.sqp_previous_direction.resize(v_free.size());
   sc.sqp_previous_product.resize(v_free.size());
+  // b - A v_k at the first iterate from solve_newton's residual at v* (rhs - A v*, formed
+  // without a product; s.rhs then stays stage 1's): that residual itself, or, for a QP
+  // linearised at v0, plus A (v* - v0).
+  bool started_at_v0 = false;  // the first QP was linearised at v0 (stats)
+  const auto residual_from_model = [&] {
+    sc.residual = s.model_residual;
+    if (!started_at_v0) return;
+    sc.dv = v_star - v_free;
+    multiply_step_system(model, s, sc.dv, sc.step);
+    sc.residual += sc.step;
+  };
   const auto rows_at_iterate = [&](int k) {
     StageTimer timer(profile, Stage::Rows);
     if (!constrained) {
@@ -352,7 +363,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     complete_strain_limit_jacobians(model, s.rows, &sc.strain_row_buffers);
   };
   const bool linearise_at_start = !s.warm_start.empty() && strays_beyond_margin(model, s.v_start, v_star);
-  bool started_at_v0 = false;  // the first QP was linearised at v0 (stats)
   for (int k = 0;; ++k) {
     // Rows at v* serve to stop at once when v* meets them all, which only an exact
     // factorisation may do (below), and otherwise only to keep v* as the fallback of a step
@@ -504,8 +514,12 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     const bool correct = m > 0 && approximate && !lambda0.isZero(0) && !predicted_match;
     const bool fused = !at_minimiser && !one_solve && correct && shared_solves_on;
     if (k == 0 && !at_minimiser) {  // r at Newton's result (later iterations update it below)
-      multiply_step_system(model, s, v_free, sc.residual);
-      sc.residual = s.rhs - sc.residual;
+      if (s.model_residual_known) {
+        residual_from_model();
+      } else {
+        multiply_step_system(model, s, v_free, sc.residual);
+        sc.residual = s.rhs - sc.residual;
+      }
     }
     if (!at_minimiser) {
       // b - A v_k from b - A v_k-1, as v_k = v_k-1 + alpha d and the merit kept A d: one
@@ -610,6 +624,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       // b - A v0 is stage 1's (assemble_system's element pass): one column fewer.
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
       sc.residual = s.start_residual;
+    } else if (at_minimiser && s.model_residual_known) {
+      multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
+      residual_from_model();
     } else if (at_minimiser) {  // else sc.residual = b - A v_k already (above)
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;

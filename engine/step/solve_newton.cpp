@@ -88,10 +88,10 @@ constexpr double kTrustedResidual = 0.1;
 // for the rest of the step if the exact system cannot be factorised, gives no descent
 // direction, or its full step is rejected by the line search.
 //
-// On exit the system and rhs describe a quadratic model around the result, so
-// solve_constraints treats it like the linear path's v*: state.system = the last Hessian
+// On exit the system and a right-hand side rhs describe a quadratic model around the result,
+// so solve_constraints treats it like the linear path's v*: state.system = the last Hessian
 // (factorised), rhs = H v - grad Phi, or H v where Newton left a large gradient (see the
-// end). With the predictor (below) the result is not that model's minimiser (its gradient
+// end), handed on as the residual rhs - H v (state.model_residual; state.rhs stays stage 1's). With the predictor (below) the result is not that model's minimiser (its gradient
 // there holds J^T lambda_0), and solve_constraints starts its first QP with the model's own
 // Newton step.
 bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
@@ -174,9 +174,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // iterate (converged, or at the cap) none at all (one Newton iteration a step assembled
   // the gradient again after its line search).
   bool derivatives_at_v = false;  // psi, force2 and dPsi are those at v, from the line search
-  // Newton's last iteration (at its cap) ends on its quadratic model: see `last` below.
-  bool model_end = false;
-  double model_alpha = 1;
   gather_free(model, state.v, v);
   state.v_start = v;
 
@@ -318,7 +315,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     derivatives_at_v = false;
     bool usable = factorize();
     double slope = 0;
-    bool cg_direction = false;  // the direction came from preconditioned CG (its residual is at hand)
     if (usable) {
       scratch.negative_gradient = -gradient;
       int iterations = -1;  // solve_preconditioned starts from direction = 0 itself
@@ -344,7 +340,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       }
       if (iterations >= 0) {
         preconditioned_iterations += iterations;
-        cg_direction = true;
       } else if (usable) {
         StageTimer timer(state.profile, Stage::Solve);
         direction.setZero(v.size());
@@ -367,12 +362,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       continue;
     }
     StageTimer timer(state.profile, Stage::Solve);
-    // The last iteration (Newton's cap; every one with newton_max_iterations 1): nothing reads
-    // the gradient at its result but the model handed to solve_constraints, which takes it from
-    // this iteration's quadratic model instead (the end), so its trials evaluate energies alone
-    // and no pass over the elements follows it. At rest that pass was one of the two a step
-    // (cube_20: ~1 ms of ~8 on 2 threads).
-    const bool last = newton + 1 >= newton_cap;
     // Backtracking: halve until Phi decreases enough (Armijo, c = 1e-4). The change of Phi
     // along the step is formed without subtracting totals, so that it stays accurate when
     // it is tiny next to Phi itself:
@@ -387,8 +376,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     auto change_at = [&](double a) {
       trial = v + a * direction;
       positions_at(model, t_end, x0, trial, x);
-      if (last) hyperelastic_energies(model, x, psi_trial);
-      else hyperelastic_derivatives(model, x, false, psi_trial, force2_trial, dPsi_trial, nullptr, scratch.element_gradients);
+      hyperelastic_derivatives(model, x, false, psi_trial, force2_trial, dPsi_trial, nullptr, scratch.element_gradients);
       state.profile.work.elements += hyperelastic_elements;
       double change = a * linear_term + 0.5 * a * a * curvature;
       for (int e = 0; e < model.num_elements; ++e) change += psi_trial[e] - psi[e];  // fixed order
@@ -407,25 +395,6 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     }
     exact_steps += exact;  // this direction came from the exact Hessian and is taken
     exact = alpha == 1 && trusted;
-    if (last) {
-      // The model's gradient at v + alpha d: g + alpha H d, with H d = -g - r from CG's
-      // residual r (a factorised H's direct solve: one product).
-      VecX& model_gradient = scratch.newton_model_gradient;
-      if (cg_direction) {
-        model_gradient = (1 - alpha) * gradient - alpha * solver.preconditioned_residual();
-      } else {
-        multiply_node_blocked(state.system, direction, model_gradient);
-        model_gradient = gradient + alpha * model_gradient;
-      }
-      state.profile.violation["newton_residual"] = first_norm > 0 ? model_gradient.norm() / first_norm : 0.0;
-      scratch.newton_model_v = v;
-      if (-slope > noise) v.swap(trial);  // the accepted trial
-      else v += alpha * direction;
-      model_end = true;
-      model_alpha = alpha;
-      ++newton;
-      break;
-    }
     if (-slope > noise) {  // the last trial is the accepted one: v and its derivatives
       v.swap(trial);
       psi.swap(psi_trial);
@@ -448,22 +417,16 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // Neo-Hookean bunny_5 dropped from 0.5 m had nodes pushed to 5 km/s at its landing
   // (docs/ARCHITECTURE.md, stage 2-3'). Below it the remaining step is small beside the one
   // taken, and keeping it refines the result (a resting body's constrained steps).
-  //
-  // After a last iteration that ended on its model (model_end: the gradient at v was not
-  // evaluated) that model is the one around the iterate it started from, v_m with gradient g
-  // and the same H: H v - rhs = g + H (v - v_m), rhs = H v_m - g, whose gradient at v is CG's
-  // residual after a full step (at most a tenth of g: the forcing term). After a shortened one
-  // (alpha < 1) the model's remaining (1 - alpha) d is the step the line search refused: v is
-  // then taken as its minimiser.
+  // The model goes on as its residual at v, r = rhs - H v = -grad Phi (or 0), less the
+  // predicted force (state.model_residual), which needs no product with H: rhs itself is not
+  // formed (solve_constraints took r back from it with a second product; each ~0.3 ms a step
+  // on cube_20, and r came out with the round-off of H v, eps |H v|, where r is tiny at rest).
   if (ok) {
-    if (model_end && model_alpha == 1) {
-      multiply_node_blocked(state.system, scratch.newton_model_v, state.rhs);
-      state.rhs -= gradient;
-    } else {
-      multiply_node_blocked(state.system, v, state.rhs);
-      if (!model_end && gradient.norm() <= kTrustedResidual * first_norm) state.rhs -= gradient;
-    }
-    if (state.impulse_predicted) state.rhs -= predicted;
+    VecX& r = state.model_residual;
+    if (gradient.norm() <= kTrustedResidual * first_norm) r = -gradient;
+    else r.setZero(v.size());
+    if (state.impulse_predicted) r -= predicted;
+    state.model_residual_known = true;
     state.v_free = v;
     for (int n = 0; n < model.num_nodes; ++n) {
       const int f = model.free_index[n];

@@ -52,7 +52,8 @@ inline LinearSolver::FactorUse factor_use(const State& state) {
 }
 
 // 2-3 for scenes with hyperelastic bodies (paper 003): Newton on the incremental potential
-//    from the previous velocities; leaves system/rhs as the quadratic model at the result.
+//    from the previous velocities; leaves system and model_residual (rhs - system v) as the
+//    quadratic model at the result.
 //    With refactor_interval > 1, between factorisations each direction comes from CG on
 //    the current Hessian preconditioned with the last factorisation, stopped unconverged
 //    after kNewtonPcgCap iterations or at a direction without positive curvature (H is
