@@ -35,7 +35,9 @@ Evaluation evaluate(const Model& model, const State& s, const VecX& v) {
   VecX dPsi;
   hyperelastic_derivatives(model, x, false, energy, force2, dPsi, nullptr, element_gradients);
   Evaluation out;
-  out.gradient = s.scratch.newton_A0 * v - s.scratch.newton_b0 + model.h * dPsi;
+  // A0 is its diagonal alone (the box is all hyperelastic; its other values are stale).
+  REQUIRE(s.scratch.newton_A0_diagonal.size() == v.size());
+  out.gradient = s.scratch.newton_A0_diagonal.cwiseProduct(v) - s.scratch.newton_b0 + model.h * dPsi;
   double forces = 0;
   for (double f2 : force2) forces += f2;
   out.scale = std::max({out.gradient.norm(), s.scratch.newton_b0.norm(), model.h * std::sqrt(forces)});
