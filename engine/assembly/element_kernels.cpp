@@ -21,6 +21,14 @@ ElementNodes gather_element_nodes(const Model& model, const VecX& x, int e) {
   return out;
 }
 
+ElementNodes gather_element_positions(const Model& model, const VecX& x, int e) {
+  ElementNodes out;
+  out.count = element_node_count(model, e);
+  const auto& nodes = model.element_nodes[e];
+  for (int a = 0; a < 8; ++a) out.x[a] = a < out.count ? Vec3(x.segment<3>(3 * nodes[a])) : Vec3::Zero();
+  return out;
+}
+
 namespace {
 
 std::array<Vec3, 4> first_four(const std::array<Vec3, 8>& p) { return {p[0], p[1], p[2], p[3]}; }

@@ -15,6 +15,10 @@ struct ElementNodes {
   std::array<Vec3, 8> x, X;  // unused entries are zero
 };
 ElementNodes gather_element_nodes(const Model& model, const VecX& x, int e);
+// The current positions alone (x; X left unset): the hyperelastic passes read no rest
+// position (their shape gradients are the model's), and gathering X took a fifth of the
+// stores and a second scattered read per node there.
+ElementNodes gather_element_positions(const Model& model, const VecX& x, int e);
 
 // Rotation R (hex8: innermost tet, paper 000; tet4: polar part of F) and the corotated
 // displacement u = R^T x - X.

@@ -52,7 +52,7 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
         const int e = group + k;
         given_kind[k] = kNone;
         if (!is_hyperelastic_element(model, e)) continue;
-        nodes[k] = gather_element_nodes(model, x, e);
+        nodes[k] = gather_element_positions(model, x, e);
         quads[k] = element_quadrature(model, e);
         if (projected_hessians && is_one_point_invariant_tet(model, e, nodes[k].count, quads[k])) {
           own_F[k] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
