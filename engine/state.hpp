@@ -126,7 +126,8 @@ struct State {
                                      // cleared where a factorisation must not be reused (world.cpp)
   std::vector<double> stiffness_scale;  // per element: its R Ke R^T's weight in A (0: none) (assemble)
   bool system_assembled = false;     // whether `system` holds this step's A (assemble_system_matrix;
-                                     // on hyperelastic steps Newton's last H after solve_newton);
+                                     // on hyperelastic steps Newton's last H after solve_newton,
+                                     // and before it only A's diagonal when no linear element is awake);
                                      // else A is applied element by element (multiply_step_system)
   std::vector<std::vector<Vec3>> surface;  // per body, deformed surface vertices (surface)
   BodySurfaces body_surfaces;        // per body, surface BVH refitted at the SQP iterate (constraints, body contact)

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cassert>
 #include <limits>
 
 #include <tbb/blocked_range.h>
@@ -495,7 +496,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // The first QP after the Newton predictor: when the predictor's force is J^T lambda_0 of
     // these very rows, bit for bit (contacts on a plane, held at rest), r = -J^T lambda_0 - e
     // at Newton's result, e what Newton left of its gradient when solve_newton's model keeps
-    // it (within a tenth of the step's scale), else the round-off of H v, so
+    // it (within a tenth of the step's scale), else 0, so
     // v = v_k + H^-1 (r + J^T lambda) = v_k + H^-1 J^T (lambda - lambda_0) - H^-1 e and the LCP
     // is C/h + W (lambda - lambda_0) >= 0 (e left out of it): c = C/h - W lambda_0 from the W
     // PGS uses, no solve and no W lambda_0 correction (an approximate W's cancels), then one
@@ -517,6 +518,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       if (s.model_residual_known) {
         residual_from_model();
       } else {
+        assert(!model.has_hyperelastic);  // Newton leaves s.rhs as stage 1's b: r comes from it alone
         multiply_step_system(model, s, v_free, sc.residual);
         sc.residual = s.rhs - sc.residual;
       }
@@ -628,6 +630,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product);
       residual_from_model();
     } else if (at_minimiser) {  // else sc.residual = b - A v_k already (above)
+      assert(!model.has_hyperelastic);  // as above
       multiply_step_system(model, s, sc.sqp_direction, sc.sqp_product, v_free, sc.residual);
       sc.residual = s.rhs - sc.residual;
     } else {

@@ -81,9 +81,10 @@ constexpr double kTrustedResidual = 0.1;
 // On exit the system and a right-hand side rhs describe a quadratic model around the result,
 // so solve_constraints treats it like the linear path's v*: state.system = the last Hessian
 // (factorised), rhs = H v - grad Phi, or H v where Newton left a large gradient (see the
-// end), handed on as the residual rhs - H v (state.model_residual; state.rhs stays stage 1's). With the predictor (below) the result is not that model's minimiser (its gradient
-// there holds J^T lambda_0), and solve_constraints starts its first QP with the model's own
-// Newton step.
+// end), neither formed: the model is handed on as its residual rhs - H v
+// (state.model_residual; state.rhs stays stage 1's). With the predictor (below) the result is
+// not that model's minimiser (its gradient there holds J^T lambda_0), and solve_constraints
+// starts its first QP with the model's own Newton step.
 bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   const SolverDesc& cfg = model.solver;
   const double t_end = state.t + model.h;

@@ -13,7 +13,9 @@ namespace sinew {
 //    multiply_step_system does element by element.
 void assemble_system(const Model& model, State& state);
 // A into state.system, unless this step's is there already (state.system_assembled): before
-// a factorisation, or for a caller that reads the matrix.
+// a factorisation, or for a caller that reads the matrix. With no linear element awake in a
+// hyperelastic scene, its diagonal alone (the mass): the other values are left stale, and
+// solve_newton, A's one reader there, takes the diagonal (until it swaps its H in).
 void assemble_system_matrix(const Model& model, State& state);
 // out = A x over the free DOFs: the assembled matrix when there is one, else the mass
 // diagonal plus sum_e s_e R_e Ke_e R_e^T x_e (s_e = state.stiffness_scale), the same terms

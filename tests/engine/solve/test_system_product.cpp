@@ -75,8 +75,9 @@ TEST_CASE("system product: an uncompressed matrix gives the same product") {
   CHECK((out - A * x).norm() <= 1e-14 * (A * x).norm());
 }
 
-// A diagonal matrix stored on a whole symmetric pattern (explicit zeros off the diagonal, as
-// assemble_system_matrix leaves a hyperelastic scene's mass matrix): multiply_diagonal gives
+// A diagonal matrix stored on a whole symmetric pattern (explicit zeros off the diagonal; a
+// hyperelastic scene's mass matrix, whose other values assemble_system_matrix leaves stale
+// and solve_newton never reads): multiply_diagonal gives
 // multiply_system's bits, on x with zeros of both signs, subnormals and values of every scale.
 TEST_CASE("system product: a diagonal matrix's product from its diagonal, bit for bit") {
   const int n = 600;

@@ -68,7 +68,9 @@ TEST_CASE("Newton hands on its model as the residual at its result: -grad Phi th
         predicted = s.scratch.newton_predicted_impulse.norm();
         ++predicted_steps;
       }
-      // Round-off: the gradient's own (its terms are of the scale's size), and (a - p) + p.
+      // Round-off: the gradient's own (its terms are of the scale's size, summed here in
+      // another order than Newton's node-blocked passes may take: eps-level differences of the
+      // scale; 1e-12 is ~4500 eps), and (a - p) + p, within eps |p| entry by entry.
       const double round_off = 1e-12 * scale + 4 * std::numeric_limits<double>::epsilon() * predicted;
       if (gradient.norm() <= 0.1 * scale) {
         ++kept;
