@@ -6,26 +6,18 @@ int element_node_count(const Model& model, int e) {
   return model.element_type[e] == ElementType::Hex8 ? 8 : 4;
 }
 
-ElementNodes gather_element_nodes(const Model& model, const VecX& x, int e) {
-  ElementNodes out;
-  out.count = element_node_count(model, e);
-  const auto& nodes = model.element_nodes[e];
-  for (int a = 0; a < 8; ++a) {
-    if (a >= out.count) {
-      out.x[a] = out.X[a] = Vec3::Zero();
-      continue;
-    }
-    out.x[a] = x.segment<3>(3 * nodes[a]);
-    out.X[a] = model.rest_x.segment<3>(3 * nodes[a]);
-  }
-  return out;
-}
-
 ElementNodes gather_element_positions(const Model& model, const VecX& x, int e) {
   ElementNodes out;
   out.count = element_node_count(model, e);
   const auto& nodes = model.element_nodes[e];
   for (int a = 0; a < 8; ++a) out.x[a] = a < out.count ? Vec3(x.segment<3>(3 * nodes[a])) : Vec3::Zero();
+  return out;
+}
+
+ElementNodes gather_element_nodes(const Model& model, const VecX& x, int e) {
+  ElementNodes out = gather_element_positions(model, x, e);
+  const auto& nodes = model.element_nodes[e];
+  for (int a = 0; a < 8; ++a) out.X[a] = a < out.count ? Vec3(model.rest_x.segment<3>(3 * nodes[a])) : Vec3::Zero();
   return out;
 }
 

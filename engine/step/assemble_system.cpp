@@ -144,7 +144,7 @@ void assemble_system_matrix(const Model& model, State& state) {
   if (static_cast<int>(scale.size()) != model.num_elements)
     throw std::logic_error("assemble_system_matrix: assemble_system has not run on this model");
   double* values = state.system.valuePtr();
-  const bool stiff = std::any_of(scale.begin(), scale.end(), [](double s) { return s != 0; });
+  const bool stiff = !system_is_mass_diagonal(state);
   // No element with stiffness this step (every awake body hyperelastic): A is the mass
   // diagonal, and the schedule's colours would be fork-joins over nothing (21 on bunny_5).
   // Its one reader then, solve_newton, takes that diagonal alone (A0_is_diagonal), so the

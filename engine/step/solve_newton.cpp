@@ -103,8 +103,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // instead of the whole pattern (bunny_5: 1.1 M instructions a product, three a step), with
   // the same bits for finite velocities (a non-finite one fails the step either way).
   VecX& A0_diagonal = scratch.newton_A0_diagonal;
-  const bool A0_is_diagonal = std::all_of(state.stiffness_scale.begin(), state.stiffness_scale.end(),
-                                          [](double scale) { return scale == 0; });
+  const bool A0_is_diagonal = system_is_mass_diagonal(state);
   if (A0_is_diagonal) {
     A0_diagonal.resize(3 * model.num_free);
     for (int i = 0; i < 3 * model.num_free; ++i) A0_diagonal[i] = A0.valuePtr()[model.pattern.diagonal[i]];

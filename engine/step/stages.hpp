@@ -1,5 +1,7 @@
 #pragma once
 // The stages of World::step(), one file each (docs/ARCHITECTURE.md lists them in order).
+#include <algorithm>
+
 #include "engine/model.hpp"
 #include "engine/solve/linear_solver.hpp"
 #include "engine/state.hpp"
@@ -17,6 +19,12 @@ void assemble_system(const Model& model, State& state);
 // hyperelastic scene, its diagonal alone (the mass): the other values are left stale, and
 // solve_newton, A's one reader there, takes the diagonal (until it swaps its H in).
 void assemble_system_matrix(const Model& model, State& state);
+// Whether A is the mass diagonal alone this step: no element with stiffness awake (every
+// stiffness_scale 0, as assemble_system leaves them). Both assemble_system_matrix and
+// solve_newton decide by it.
+inline bool system_is_mass_diagonal(const State& state) {
+  return std::all_of(state.stiffness_scale.begin(), state.stiffness_scale.end(), [](double s) { return s == 0; });
+}
 // out = A x over the free DOFs: the assembled matrix when there is one, else the mass
 // diagonal plus sum_e s_e R_e Ke_e R_e^T x_e (s_e = state.stiffness_scale), the same terms
 // summed in another order; the same for any thread count.

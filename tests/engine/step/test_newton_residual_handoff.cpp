@@ -68,10 +68,10 @@ TEST_CASE("Newton hands on its model as the residual at its result: -grad Phi th
         predicted = s.scratch.newton_predicted_impulse.norm();
         ++predicted_steps;
       }
-      // Round-off: the gradient's own (its terms are of the scale's size, summed here in
-      // another order than Newton's node-blocked passes may take: eps-level differences of the
-      // scale; 1e-12 is ~4500 eps), and (a - p) + p, within eps |p| entry by entry.
-      const double round_off = 1e-12 * scale + 4 * std::numeric_limits<double>::epsilon() * predicted;
+      // The gradient here takes Newton's operations in Newton's order (positions, diagonal
+      // product, the same pass), so it is Newton's to the bit; what separates r from it is
+      // (g + p) - p, within eps |g + p| entry by entry: 2 eps (|g| + |p|) in norm.
+      const double round_off = 2 * std::numeric_limits<double>::epsilon() * (gradient.norm() + predicted);
       if (gradient.norm() <= 0.1 * scale) {
         ++kept;
         CHECK((remaining - gradient).norm() <= round_off);
