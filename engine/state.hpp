@@ -52,7 +52,7 @@ struct StepScratch {
   VecX newton_x0, newton_b0, newton_predicted_impulse, newton_v, newton_x, dPsi, gradient, quadratic_gradient, direction, trial, A0_direction,
       negative_gradient, dPsi_trial;
   std::vector<double> psi, psi_trial, force2, force2_trial;
-  std::vector<Vec24> element_gradients;  // hyperelastic_derivatives' per-element gradients
+  std::vector<Vec3> node_gradients;  // hyperelastic_derivatives' element gradients, one per node incidence
 };
 
 struct State {

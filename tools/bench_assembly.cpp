@@ -40,7 +40,7 @@ double elapsed_ms(std::chrono::steady_clock::time_point since) {
 // `repeats` calls of each pass at the positions x, alternating.
 PassTimes time_passes(const Model& model, const VecX& x, const SparseMatrix& pattern, int repeats) {
   std::vector<double> energy, force2;
-  std::vector<Vec24> element_gradients;
+  std::vector<Vec3> node_gradients;
   VecX gradient;
   SparseMatrix matrix = pattern;
   const std::vector<double> start(pattern.valuePtr(), pattern.valuePtr() + pattern.nonZeros());
@@ -48,10 +48,10 @@ PassTimes time_passes(const Model& model, const VecX& x, const SparseMatrix& pat
   for (int k = 0; k < repeats + 1; ++k) {  // the first call of each warms the buffers, untimed
     std::copy(start.begin(), start.end(), matrix.valuePtr());
     auto begin = std::chrono::steady_clock::now();
-    hyperelastic_derivatives(model, x, false, energy, force2, gradient, matrix.valuePtr(), element_gradients);
+    hyperelastic_derivatives(model, x, false, energy, force2, gradient, matrix.valuePtr(), node_gradients);
     if (k > 0) times.hessian_ms.push_back(elapsed_ms(begin));
     begin = std::chrono::steady_clock::now();
-    hyperelastic_derivatives(model, x, false, energy, force2, gradient, nullptr, element_gradients);
+    hyperelastic_derivatives(model, x, false, energy, force2, gradient, nullptr, node_gradients);
     if (k > 0) times.gradient_ms.push_back(elapsed_ms(begin));
   }
   return times;

@@ -148,11 +148,13 @@ int main(int argc, char** argv) {
           scene.solver.hessian_reuse_tolerance = reuse_tolerance;
           const Samples s = run(scene, warmup, steps);
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
-          std::printf("%-8s %-22s threads %d: step median %8.2f ms (assemble %.2f, factorize %.2f, solve+line search "
+          std::printf("%-8s %-22s threads %d: step median %8.2f ms (mean %.2f, p95 %.2f, max %.2f; assemble %.2f, factorize %.2f, solve+line search "
                       "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step; factorisations "
                       "%.2f, preconditioned CG iterations %.2f (converged solves), CG fallbacks %.2f and tet Hessians formed "
                       "%.0f per step (means)%s\n",
-                      mesh.name.c_str(), mode, threads, median(s.step_ms), median(s.assemble), median(s.factorize),
+                      mesh.name.c_str(), mode, threads, median(s.step_ms), mean(s.step_ms), s.step_ms.empty() ? 0.0 : quantile(s.step_ms, 0.95),
+                      s.step_ms.empty() ? 0.0 : *std::max_element(s.step_ms.begin(), s.step_ms.end()),
+                      median(s.assemble), median(s.factorize),
                       median(s.solve), median(s.constraints), median(s.newton),
                       s.newton.empty() ? 0.0 : *std::max_element(s.newton.begin(), s.newton.end()), median(s.linear),
                       mean(s.factorizations), mean(s.preconditioned), mean(s.fallbacks), mean(s.hessians_formed),
@@ -160,6 +162,9 @@ int main(int argc, char** argv) {
           std::fflush(stdout);
           results["runs"].push_back({{"mesh", mesh.name}, {"mode", mode}, {"threads", threads},
                                      {"finite", s.finite}, {"step_ms_median", median(s.step_ms)},
+                                     {"step_ms_mean", mean(s.step_ms)},
+                                     {"step_ms_p95", s.step_ms.empty() ? 0.0 : quantile(s.step_ms, 0.95)},
+                                     {"step_ms_max", s.step_ms.empty() ? 0.0 : *std::max_element(s.step_ms.begin(), s.step_ms.end())},
                                      {"assemble_ms_median", median(s.assemble)},
                                      {"factorize_ms_median", median(s.factorize)},
                                      {"solve_ms_median", median(s.solve)},

@@ -36,9 +36,17 @@ struct EveryHessianWanted {
 // svd null, where wanted(e, F) is false: that tet keeps an earlier Hessian,
 // kept_tet_hessians.hpp, and needs no SVD), else null. `shared_writes` false: the visits write per-element results only, and the
 // schedule's blocks run all at once instead of colour by colour.
-template <class Visit, class Wanted = EveryHessianWanted>
+struct EveryElementIncluded {
+  bool operator()(int) const { return true; }
+};
+
+// included(e): whether hyperelastic element e is visited at all (the kept pass leaves out the
+// tets whose Hessian it kept, hyperelastic_derivatives.cpp).
+template <class Visit, class Wanted = EveryHessianWanted, class Included = EveryElementIncluded>
 void for_each_hyperelastic_element(const Model& model, const VecX& x, bool projected_hessians, const Visit& visit,
-                                   bool shared_writes = true, const Wanted& wanted = {}) {
+                                   bool shared_writes = true, const Wanted& wanted = {},
+                                   const Included& included = {}) {
+  const auto takes = [&](int e) { return is_hyperelastic_element(model, e) && included(e); };
   const auto visit_block = [&](int first, int last) {
     for (int group = first; group < last; group += 4) {
       const int count = std::min(4, last - group);
@@ -51,7 +59,7 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
       for (int k = 0; k < count; ++k) {
         const int e = group + k;
         given_kind[k] = kNone;
-        if (!is_hyperelastic_element(model, e)) continue;
+        if (!takes(e)) continue;
         nodes[k] = gather_element_positions(model, x, e);
         quads[k] = element_quadrature(model, e);
         if (projected_hessians && is_one_point_invariant_tet(model, e, nodes[k].count, quads[k])) {
@@ -67,7 +75,7 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
       }
       compute_rotation_variant_svds(F, svds, in_batch);
       for (int k = 0; k < count; ++k) {
-        if (!is_hyperelastic_element(model, group + k)) continue;
+        if (!takes(group + k)) continue;
         if (given_kind[k] == kNone) {
           visit(group + k, nodes[k], quads[k], nullptr);
         } else if (given_kind[k] == kKept) {

@@ -12,13 +12,17 @@
 
 namespace sinew {
 
-Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes) {
-  // Nine named sums, node after node, each entry's terms in node order: Eigen's
-  // outer-product update went through the stack, and its overlapping 16-byte reloads stalled
-  // store forwarding (73 % of this function's samples); an array of sums stayed on the stack.
+namespace {
+
+// F = sum_a x_a dN_a^T over `count` nodes, position(a) the node's: nine named sums, node
+// after node, each entry's terms in node order (Eigen's outer-product update went through the
+// stack, and its overlapping 16-byte reloads stalled store forwarding: 73 % of this
+// function's samples; an array of sums stayed on the stack).
+template <class Position>
+Mat3 sum_deformation_gradient(const Mat83& dN_dX, int count, const Position& position) {
   double f00 = 0, f01 = 0, f02 = 0, f10 = 0, f11 = 0, f12 = 0, f20 = 0, f21 = 0, f22 = 0;
-  for (int a = 0; a < nodes.count; ++a) {
-    const Vec3& x = nodes.x[a];
+  for (int a = 0; a < count; ++a) {
+    const double* x = position(a);
     const double d0 = dN_dX(a, 0), d1 = dN_dX(a, 1), d2 = dN_dX(a, 2);
     f00 += x[0] * d0, f10 += x[1] * d0, f20 += x[2] * d0;
     f01 += x[0] * d1, f11 += x[1] * d1, f21 += x[2] * d1;
@@ -27,6 +31,16 @@ Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes) {
   Mat3 F;
   F << f00, f01, f02, f10, f11, f12, f20, f21, f22;
   return F;
+}
+
+}  // namespace
+
+Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes) {
+  return sum_deformation_gradient(dN_dX, nodes.count, [&](int a) { return nodes.x[a].data(); });
+}
+
+Mat3 tet_deformation_gradient(const Mat83& dN_dX, const VecX& x, const std::array<int, 8>& nodes) {
+  return sum_deformation_gradient(dN_dX, 4, [&](int a) { return x.data() + 3 * nodes[a]; });
 }
 
 namespace {
@@ -201,6 +215,16 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
   if (nodes.count != 4 || quad.points != 1 || quad.mean_dilatation)
     throw std::logic_error("hyperelastic_tet_derivatives: a TetHessianScatter takes a one-point tet only");
   return sum_over_points(material, quad, nodes, gradient, &hessian, false, given);
+}
+
+double invariant_tet_energy_gradient(const Material& material, const Mat3& F, const Mat83& dN, double w,
+                                     Vec12& gradient) {
+  const InvariantMaterial& invariant = *material.as_invariant();
+  const InvariantTerms t = invariant.terms(F.squaredNorm(), F.determinant());
+  const Mat3 P = invariant_pk1(F, t);
+  for (int a = 0; a < 4; ++a) gradient.segment<3>(3 * a) = Vec3::Zero() + w * (P * dN.row(a).transpose());
+  // 0 + energy, as sum_over_points sums it (the sign of a zero energy)
+  return 0.0 + (material.is_defined(F) ? w * t.psi : std::numeric_limits<double>::infinity());
 }
 
 double hyperelastic_element_exact_derivatives(const Material& material, const ElementQuadrature& quad,

@@ -7,6 +7,8 @@
 // with vec(F) column-major (engine/materials/material.hpp), so dvec(F)/dx = B with
 // B(i + 3j, 3a + i) = dN_a,j. Results are padded to 8 nodes like element_kernels.hpp.
 // A quadrature with mean_dilatation set goes to mean_dilatation_element.hpp instead.
+#include <array>
+
 #include "engine/assembly/element_kernels.hpp"
 #include "engine/assembly/tet_hessian_scatter.hpp"
 #include "engine/math/rotation_variant_svd.hpp"
@@ -15,6 +17,9 @@ namespace sinew {
 
 // F at one point: sum_a x_a (dN_a/dX)^T.
 Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes);
+// The same for a tet, its four nodes' positions read from x (the whole position vector) at
+// the indices `nodes`: the same bits as from the gathered nodes.
+Mat3 tet_deformation_gradient(const Mat83& dN_dX, const VecX& x, const std::array<int, 8>& nodes);
 
 // hessian(a, b) += w sum_{j,m} dN_a,j dN_b,m H_jm over the first n nodes: w B^T H B for one
 // point, without forming B. With n = 4 (a tet) node 0's blocks follow from the others'
@@ -51,6 +56,13 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
 double hyperelastic_tet_derivatives(const Material& material, const ElementQuadrature& quad,
                                     const ElementNodes& nodes, Vec12& gradient, const TetHessianScatter& hessian,
                                     const GivenDeformation* given = nullptr);
+
+// Energy and gradient alone of a one-point tet of an invariant material (material.as_invariant()
+// not null) at its F, shape gradients dN and weight (rest volume) w: the bits of
+// hyperelastic_tet_derivatives without a Hessian, with none of its gathers and branches (the
+// gradient passes of Newton's line search and of tets whose Hessian is kept).
+double invariant_tet_energy_gradient(const Material& material, const Mat3& F, const Mat83& dN, double w,
+                                     Vec12& gradient);
 
 // The same with the exact Hessian d2Psi/dF2 (not projected; Newton near convergence), or the
 // projected one where the material is undefined at some point (J <= 0 for neo_hookean; the

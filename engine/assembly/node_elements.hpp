@@ -15,6 +15,9 @@ namespace sinew {
 struct NodeElements {
   std::vector<int> begin;                    // per node, then the total: entries[begin[n], begin[n + 1])
   std::vector<std::pair<int, int>> entries;  // (element, local node index), ascending element
+  // Per element and local node, the index of its entry (-1 for a tet's unused slots): a pass
+  // can write an element's per-node terms where sum_by_node then reads them in a row.
+  std::vector<std::array<int, 8>> slot;
 };
 
 // `element_nodes`: global node indices, -1 in a tet's unused slots.

@@ -14,8 +14,9 @@ struct KeptTetHessians;
 // Per-element energies and squared force norms |dPsi_e/dx|^2, the gradient over free DOFs
 // (dPsi/dx, free nodes only) and, if `values` is not null, h^2 times the element Hessians
 // (projected, or exact if `exact`) scattered into a matrix of the system pattern.
-// The elements' gradients go to `element_gradients` and are summed by node afterwards
-// (node_elements.hpp: each node's in element order), so that without `values` nothing is
+// The elements' gradients go to `node_gradients` (one 3-vector per entry of the model's
+// node_elements, where sum_by_node reads a node's terms in a row) and are summed by node
+// afterwards (node_elements.hpp: each node's in element order), so that without `values` nothing is
 // shared between elements and the blocks run all at once, not colour by colour: the pass
 // of the line search's trials, the same bits as the assembly's.
 // kept (with `values`, projected Hessians): one-point tets of invariant materials whose F
@@ -24,7 +25,7 @@ struct KeptTetHessians;
 // overwrite: the values are written, not added to (only where keeps_every_hessian).
 void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std::vector<double>& energy,
                               std::vector<double>& force2, VecX& gradient, double* values,
-                              std::vector<Vec24>& element_gradients, KeptTetHessians* kept = nullptr,
+                              std::vector<Vec3>& node_gradients, KeptTetHessians* kept = nullptr,
                               double reuse_tolerance = 0, bool overwrite = false);
 
 // Sizes `kept` for the model (dropping what it holds if the pattern or h changed) and tells

@@ -242,7 +242,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       hessian_in_system = false;
     }
     hyperelastic_derivatives(model, x, exact, psi, force2, dPsi, with_hessian ? H.valuePtr() : nullptr,
-                             scratch.element_gradients, kept, cfg.hessian_reuse_tolerance, overwrite);
+                             scratch.node_gradients, kept, cfg.hessian_reuse_tolerance, overwrite);
     if (overwrite)
       for (int i = 0; i < 3 * model.num_free; ++i) H.valuePtr()[model.pattern.diagonal[i]] += A0_diagonal[i];
     state.profile.work.elements += hyperelastic_elements;
@@ -366,7 +366,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     auto change_at = [&](double a) {
       trial = v + a * direction;
       positions_at(model, t_end, x0, trial, x);
-      hyperelastic_derivatives(model, x, false, psi_trial, force2_trial, dPsi_trial, nullptr, scratch.element_gradients);
+      hyperelastic_derivatives(model, x, false, psi_trial, force2_trial, dPsi_trial, nullptr, scratch.node_gradients);
       state.profile.work.elements += hyperelastic_elements;
       double change = a * linear_term + 0.5 * a * a * curvature;
       for (int e = 0; e < model.num_elements; ++e) change += psi_trial[e] - psi[e];  // fixed order

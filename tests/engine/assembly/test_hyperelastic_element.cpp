@@ -313,3 +313,40 @@ TEST_CASE("hyperelastic tet, projected Hessian of an invariant material: term by
     REQUIRE(scaling_modes > 0);
   }
 }
+
+TEST_CASE("hyperelastic tet, energies and gradient alone: the bits of the full path, F read from the positions") {
+  // invariant_tet_energy_gradient is the gradient passes' path (hyperelastic_derivatives.cpp)
+  // and must give what hyperelastic_tet_derivatives gives the Hessian passes: Newton's line
+  // search compares energies from both, and kept tets mix them in one gradient. At rest, stretched, sheared and inverted (neo_hookean's energy
+  // undefined there: +infinity), for every invariant material.
+  const TetFixture t;
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-0.06, 0.06);
+  const auto same_bits = [](double a, double b) { return std::bit_cast<uint64_t>(a) == std::bit_cast<uint64_t>(b); };
+  for (const char* name : {"stable_neo_hookean", "neo_hookean", "fung", "arruda_boyce"}) {
+    CAPTURE(name);
+    const auto material = make_material(name, {1e5, 0.45});
+    REQUIRE(material->as_invariant() != nullptr);
+    int inverted = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+      const bool at_rest = trial == 0;
+      const ElementNodes nodes = t.nodes([&](const Vec3& X) {
+        const double dx = u(rng), dy = u(rng), dz = u(rng);
+        return at_rest ? X : Vec3(X + Vec3(dx, dy, dz));
+      });
+      // The positions as a model holds them: four nodes at scattered indices of one vector.
+      VecX x = VecX::Constant(30, std::nan(""));
+      const std::array<int, 8> indices{7, 2, 9, 4, -1, -1, -1, -1};
+      for (int a = 0; a < 4; ++a) x.segment<3>(3 * indices[a]) = nodes.x[a];
+      const Mat3 F = tet_deformation_gradient(t.dN, x, indices);
+      CHECK(F == deformation_gradient(t.dN, nodes));
+      inverted += F.determinant() < 0;
+      Vec12 g_full, g_lean;
+      const double e_full = hyperelastic_tet_derivatives(*material, t.quad, nodes, g_full, nullptr);
+      const double e_lean = invariant_tet_energy_gradient(*material, F, t.dN, t.quad.weight, g_lean);
+      CHECK(same_bits(e_lean, e_full));
+      for (int i = 0; i < 12; ++i) CHECK(same_bits(g_lean[i], g_full[i]));
+    }
+    REQUIRE(inverted > 0);
+  }
+}

@@ -38,8 +38,8 @@ struct Pass {
 Pass hessian_pass(const Model& model, const VecX& x, KeptTetHessians* kept = nullptr, double tolerance = 0) {
   Pass p;
   p.values.assign(model.pattern.matrix.nonZeros(), 0.0);
-  std::vector<Vec24> element_gradients;
-  hyperelastic_derivatives(model, x, false, p.energy, p.force2, p.gradient, p.values.data(), element_gradients, kept,
+  std::vector<Vec3> node_gradients;
+  hyperelastic_derivatives(model, x, false, p.energy, p.force2, p.gradient, p.values.data(), node_gradients, kept,
                            tolerance);
   return p;
 }
@@ -321,9 +321,9 @@ TEST_CASE("kept tet Hessians: the pass that writes the values whole equals the o
     Pass added = hessian_pass(model, x, &adding, 1e-3);
     Pass written;
     written.values.assign(model.pattern.matrix.nonZeros(), std::numeric_limits<double>::quiet_NaN());
-    std::vector<Vec24> element_gradients;
+    std::vector<Vec3> node_gradients;
     hyperelastic_derivatives(model, x, false, written.energy, written.force2, written.gradient, written.values.data(),
-                             element_gradients, &writing, 1e-3, true);
+                             node_gradients, &writing, 1e-3, true);
     // 0 + k = k: the same bits, every value written (none left NaN).
     CHECK(written.values == added.values);
     CHECK(written.gradient == added.gradient);

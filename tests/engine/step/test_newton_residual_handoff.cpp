@@ -31,9 +31,9 @@ Evaluation evaluate(const Model& model, const State& s, const VecX& v) {
   for (int n = 0; n < model.num_nodes; ++n)
     if (const int f = model.free_index[n]; f >= 0) x.segment<3>(3 * n) += model.h * v.segment<3>(3 * f);
   std::vector<double> energy, force2;
-  std::vector<Vec24> element_gradients;
+  std::vector<Vec3> node_gradients;
   VecX dPsi;
-  hyperelastic_derivatives(model, x, false, energy, force2, dPsi, nullptr, element_gradients);
+  hyperelastic_derivatives(model, x, false, energy, force2, dPsi, nullptr, node_gradients);
   Evaluation out;
   // A0 is its diagonal alone (the box is all hyperelastic; its other values are stale).
   REQUIRE(s.scratch.newton_A0_diagonal.size() == v.size());
