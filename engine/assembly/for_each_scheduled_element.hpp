@@ -17,19 +17,6 @@ void for_each_scheduled_block(const ElementSchedule& schedule, const VisitBlock&
     });
 }
 
-// Calls visit_block(first, last) for every block of the schedule, all colours at once: for
-// loops whose visits write per-element results only (nothing shared between elements), which
-// need no colour-by-colour barrier (bunny_5: 21 colours, 21 fork-joins).
-template <class VisitBlock>
-void for_each_scheduled_block_at_once(const ElementSchedule& schedule, const VisitBlock& visit_block) {
-  tbb::parallel_for(size_t{0}, schedule.colors.size(), [&](size_t c) {
-    const std::vector<ElementBlock>& color = schedule.colors[c];
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, color.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t b = range.begin(); b != range.end(); ++b) visit_block(color[b].first, color[b].last);
-    });
-  });
-}
-
 // Calls visit(e) for every element of the schedule, each block's in index order.
 template <class Visit>
 void for_each_scheduled_element(const ElementSchedule& schedule, const Visit& visit) {

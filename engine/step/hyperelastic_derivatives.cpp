@@ -102,9 +102,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     if (nodes.count == 4 && !quad.mean_dilatation) {
       Vec12 g;
       const char pass = kept ? kept->fresh[e] : static_cast<char>(kDirect);
-      if (pass == kKept) {  // its kept blocks stand in kept->values; given: its F alone
-        energy[e] = hyperelastic_tet_derivatives(material, quad, nodes, g, nullptr, given);
-      } else if (pass == kFresh) {
+      if (pass == kFresh) {
         energy[e] = form_kept_tet_hessian(model, e, material, quad, nodes, *given, g, *kept);
       } else if (values && exact) {
         Mat12 K;
@@ -169,10 +167,9 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
       }
       if (left) any_left.store(true, std::memory_order_relaxed);
     });
-    // The batch's F is tet_F's (the same sums), and a tet marked fresh above is formed.
-    const auto wanted = [&](int e, const Mat3&) { return kept->fresh[e] == kFresh; };
+    // The batch's F is tet_F's (the same sums): a tet marked fresh above is formed there.
     const auto left_over = [&](int e) { return kept->fresh[e] != kKept; };
-    if (any_left.load()) for_each_hyperelastic_element(model, x, true, visit, true, wanted, left_over);
+    if (any_left.load()) for_each_hyperelastic_element(model, x, true, visit, left_over);
     long formed = 0;
     bool after_larger = false;
     for (char pass : kept->fresh) {
@@ -206,7 +203,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
       }
     });
   } else {
-    for_each_hyperelastic_element(model, x, !exact, visit, true);
+    for_each_hyperelastic_element(model, x, !exact, visit);
   }
   // A free node's elements are all of its body, hyperelastic or not alike, and awake.
   gradient.resize(3 * model.num_free);

@@ -16,9 +16,9 @@ struct KeptTetHessians;
 // (projected, or exact if `exact`) scattered into a matrix of the system pattern.
 // The elements' gradients go to `node_gradients` (one 3-vector per entry of the model's
 // node_elements, where sum_by_node reads a node's terms in a row) and are summed by node
-// afterwards (node_elements.hpp: each node's in element order), so that without `values` nothing is
-// shared between elements and the blocks run all at once, not colour by colour: the pass
-// of the line search's trials, the same bits as the assembly's.
+// afterwards (node_elements.hpp: each node's in element order), so that without `values`
+// nothing is shared between elements and they run in one parallel loop in any order, not
+// colour by colour: the pass of the line search's trials, the same bits as the assembly's.
 // kept (with `values`, projected Hessians): one-point tets of invariant materials whose F
 // moved by at most reuse_tolerance (entrywise) since their Hessian was formed keep it
 // (kept_tet_hessians.hpp); the others form theirs afresh; the kept sum is added to `values`.
