@@ -18,6 +18,7 @@
 #include <ostream>
 #include <string>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 #include "engine/core/error.hpp"
@@ -38,6 +39,17 @@ struct Samples {
   std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints, preconditioned, fallbacks,
       factorizations, hessians_formed;
   bool finite = true;
+
+  // Another run's samples after these (a repeat pools every run's steps).
+  void append(const Samples& o) {
+    for (auto [to, from] : {std::pair{&step_ms, &o.step_ms}, {&newton, &o.newton}, {&linear, &o.linear},
+                            {&assemble, &o.assemble}, {&factorize, &o.factorize}, {&solve, &o.solve},
+                            {&constraints, &o.constraints}, {&preconditioned, &o.preconditioned},
+                            {&fallbacks, &o.fallbacks}, {&factorizations, &o.factorizations},
+                            {&hessians_formed, &o.hessians_formed}})
+      to->insert(to->end(), from->begin(), from->end());
+    finite = finite && o.finite;
+  }
 };
 
 Samples run(const SceneDesc& scene, int warmup, int steps) {
@@ -101,9 +113,12 @@ int main(int argc, char** argv) {
        {"--mode", "MODE", "one_newton_iteration or newton_converged_1e-6: that mode only\n"
                           "                          (default: both)"},
        {"--threads", "T", "1 or 2: that thread count only (default: both)"},
+       {"--repeat", "N", "run each case N times from the start (default 1): the figures pool every\n"
+                         "                          run's timed steps, and each run's median step and the median of\n"
+                         "                          those are reported too (the VM's noise drifts over minutes)"},
        {"--out", "FILE", "JSON results (default bench_hyperelastic.json)"}},
       0);
-  int warmup = 5, steps = 60, delassus_reuse = defaults.delassus_reuse, refactor_interval = defaults.refactor_interval;
+  int warmup = 5, steps = 60, repeat = 1, delassus_reuse = defaults.delassus_reuse, refactor_interval = defaults.refactor_interval;
   std::string out = "bench_hyperelastic.json", precision = defaults.stale_factor_precision;
   double reuse_tolerance = defaults.hessian_reuse_tolerance;
   std::string only_mesh, only_mode;  // empty: all
@@ -112,6 +127,7 @@ int main(int argc, char** argv) {
     if (!options.parse(argc - 1, argv + 1)) return 0;
     steps = options.get_int("--steps", steps, 1);
     warmup = options.get_int("--warmup", warmup, 0);
+    repeat = options.get_int("--repeat", repeat, 1);
     delassus_reuse = options.get_int("--delassus-reuse", delassus_reuse, 1);
     refactor_interval = options.get_int("--refactor-interval", refactor_interval, 1);
     out = options.get("--out", out);
@@ -128,7 +144,8 @@ int main(int argc, char** argv) {
   }
   nlohmann::json results = {{"E", 5e5}, {"nu", 0.45}, {"rho", 1000}, {"h", 1.0 / 60}, {"warmup", warmup},
                             {"steps", steps}, {"delassus_reuse", delassus_reuse}, {"refactor_interval", refactor_interval},
-                            {"stale_factor_precision", precision}, {"hessian_reuse_tolerance", reuse_tolerance}, {"runs", nlohmann::json::array()}};
+                            {"stale_factor_precision", precision}, {"hessian_reuse_tolerance", reuse_tolerance}, {"repeat", repeat},
+                            {"runs", nlohmann::json::array()}};
   for (const MeshCase& mesh : kMeshes) {
     if (!only_mesh.empty() && mesh.name != only_mesh) continue;
     const std::string base = sinew::bench::mesh_base(mesh);
@@ -146,7 +163,13 @@ int main(int argc, char** argv) {
           SceneDesc scene = drop_scene(base + ".node", mesh, iterations, tolerance, delassus_reuse, refactor_interval);
           scene.solver.stale_factor_precision = precision;
           scene.solver.hessian_reuse_tolerance = reuse_tolerance;
-          const Samples s = run(scene, warmup, steps);
+          Samples s;
+          std::vector<double> run_medians;
+          for (int r = 0; r < repeat && s.finite; ++r) {
+            const Samples one = run(scene, warmup, steps);
+            run_medians.push_back(median(one.step_ms));
+            s.append(one);
+          }
           const double total_newton = [&] { double t = 0; for (double n : s.newton) t += n; return t; }();
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (mean %.2f, p95 %.2f, max %.2f; assemble %.2f, factorize %.2f, solve+line search "
                       "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step; factorisations "
@@ -159,6 +182,11 @@ int main(int argc, char** argv) {
                       s.newton.empty() ? 0.0 : *std::max_element(s.newton.begin(), s.newton.end()), median(s.linear),
                       mean(s.factorizations), mean(s.preconditioned), mean(s.fallbacks), mean(s.hessians_formed),
                       s.finite ? "" : "  (stopped: non-finite)");
+          if (repeat > 1) {
+            std::printf("  median step of each of %d runs:", repeat);
+            for (double m : run_medians) std::printf(" %.2f", m);
+            std::printf(" ms; their median %.2f ms\n", median(run_medians));
+          }
           std::fflush(stdout);
           results["runs"].push_back({{"mesh", mesh.name}, {"mode", mode}, {"threads", threads},
                                      {"finite", s.finite}, {"step_ms_median", median(s.step_ms)},
@@ -174,7 +202,9 @@ int main(int argc, char** argv) {
                                      {"preconditioned_cg_mean", mean(s.preconditioned)},
                                      {"preconditioned_cg_fallbacks_mean", mean(s.fallbacks)},
                                      {"hessians_formed_mean", mean(s.hessians_formed)},
-                                     {"timed_steps", s.step_ms.size()}});
+                                     {"timed_steps", s.step_ms.size()}, {"repeats", repeat},
+                                     {"step_ms_median_per_run", run_medians},
+                                     {"step_ms_median_of_runs", median(run_medians)}});
         } catch (const InputError& e) {
           std::fprintf(stderr, "%s\n", e.what());
           return 2;
