@@ -66,6 +66,24 @@ __attribute__((target("avx2"))) void add_kept_differences_avx2(double* values, c
   }
 }
 
+// The largest magnitudes of two blocks' 144 values, four lanes at a time: max is exact, so
+// the order does not matter, and a NaN is passed over as by the scalar loop's std::max
+// (_mm256_max_pd returns its second operand, the running maximum, when one is NaN).
+__attribute__((target("avx2"))) void largest_magnitudes_avx2(const double* held, const double* formed,
+                                                        double& largest_held, double& largest_formed) {
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  __m256d h = _mm256_setzero_pd(), f = _mm256_setzero_pd();
+  for (int i = 0; i < 144; i += 4) {
+    h = _mm256_max_pd(_mm256_andnot_pd(sign, _mm256_loadu_pd(held + i)), h);
+    f = _mm256_max_pd(_mm256_andnot_pd(sign, _mm256_loadu_pd(formed + i)), f);
+  }
+  alignas(32) double lanes_h[4], lanes_f[4];
+  _mm256_store_pd(lanes_h, h);
+  _mm256_store_pd(lanes_f, f);
+  largest_held = std::max({lanes_h[0], lanes_h[1], lanes_h[2], lanes_h[3]});
+  largest_formed = std::max({lanes_f[0], lanes_f[1], lanes_f[2], lanes_f[3]});
+}
+
 }  // namespace
 
 bool KeptTetHessians::replace(int e, const Mat3& at_F, const std::array<double, 144>& formed, const int* at) {
@@ -74,10 +92,14 @@ bool KeptTetHessians::replace(int e, const Mat3& at_F, const std::array<double, 
   // Blocks 1e4 times smaller than those they replace leave the sum with the large ones'
   // round-off, 1e4 u ~ 2e-12 of the new entries or more: summed anew after the pass.
   double largest_held = 0, largest_formed = 0;
-  for (int i = 0; i < 144; ++i)
-    largest_held = std::max(largest_held, std::abs(held[i])), largest_formed = std::max(largest_formed, std::abs(formed[i]));
-  if (use_avx2()) add_kept_differences_avx2(values.data(), formed.data(), held.data(), at);
-  else add_kept_differences(values.data(), formed.data(), held.data(), at);
+  if (use_avx2()) {
+    largest_magnitudes_avx2(held.data(), formed.data(), largest_held, largest_formed);
+    add_kept_differences_avx2(values.data(), formed.data(), held.data(), at);
+  } else {
+    for (int i = 0; i < 144; ++i)
+      largest_held = std::max(largest_held, std::abs(held[i])), largest_formed = std::max(largest_formed, std::abs(formed[i]));
+    add_kept_differences(values.data(), formed.data(), held.data(), at);
+  }
   held = formed;
   F[e] = at_F;
   kept[e] = 1;

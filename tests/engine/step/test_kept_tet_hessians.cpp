@@ -350,3 +350,37 @@ TEST_CASE("kept tet Hessians: the same states on 1 and 2 threads") {
   CHECK(formed[0] == formed[1]);
   CHECK(x[0] == x[1]);
 }
+
+TEST_CASE("kept tet Hessians: the test for far smaller blocks reads every value's magnitude and passes over NaN") {
+  // replace() compares the largest magnitude of the blocks held with that of the new ones
+  // (more than 1e4 times larger: the sum is summed anew). One outstanding value at each of
+  // the 144 positions in turn, negative, with a NaN elsewhere, by the AVX2 and scalar kernels.
+  std::vector<int> scatter(48);
+  for (int i = 0; i < 48; ++i) scatter[i] = 3 * i;
+  for (const bool avx2 : {true, false}) {
+    CAPTURE(avx2);
+    std::optional<BaselineKernelsOnly> baseline;
+    if (!avx2) baseline.emplace();
+    for (int q = 0; q < 144; ++q) {  // the NaN's place: every one, the last four lanes too
+      const int p = (q * 7 + 3) % 144;  // the outstanding value's, another
+      CAPTURE(p);
+      CAPTURE(q);
+      KeptTetHessians kept;
+      kept.prepare(1, 144, 1.0);
+      kept.allocate_blocks();
+      std::array<double, 144> first, second, third;
+      first.fill(0.5);
+      first[p] = -3e4;  // largest held: 3e4, a NaN beside it
+      first[q] = std::nan("");
+      second.fill(1.0);
+      second[q] = std::nan("");
+      CHECK_FALSE(kept.replace(0, Mat3::Identity(), first, scatter.data()));
+      CHECK(kept.replace(0, Mat3::Identity(), second, scatter.data()));  // 3e4 > 1e4 * 1
+      third.fill(-1.0);
+      third[p] = -5.0;  // largest new: 5, and held (second) at most 1 apart from its NaN
+      CHECK_FALSE(kept.replace(0, Mat3::Identity(), third, scatter.data()));
+      kept.replace(0, Mat3::Identity(), first, scatter.data());
+      CHECK_FALSE(kept.replace(0, Mat3::Identity(), third, scatter.data()));  // 3e4 < 1e4 * 5
+    }
+  }
+}
