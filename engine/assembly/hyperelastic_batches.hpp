@@ -10,6 +10,7 @@
 #include "engine/assembly/element_kernels.hpp"
 #include "engine/assembly/for_each_scheduled_element.hpp"
 #include "engine/assembly/hyperelastic_element.hpp"
+#include "engine/materials/invariant_material.hpp"
 #include "engine/math/rotation_variant_svd.hpp"
 #include "engine/model.hpp"
 
@@ -19,11 +20,13 @@ inline bool is_hyperelastic_element(const Model& model, int e) {
   return model.bodies[model.element_body[e]].hyperelastic != nullptr;
 }
 
-// A one-point tet of an invariant material: its projected Hessian's SVD goes in the batches,
-// and its Hessian may be kept (kept_tet_hessians.hpp).
-inline bool is_one_point_invariant_tet(const Model& model, int e, int node_count, const ElementQuadrature& quad) {
-  return node_count == 4 && !quad.mean_dilatation && quad.points == 1 &&
-         model.bodies[model.element_body[e]].hyperelastic->as_invariant();
+// A hyperelastic element that is a tet of an invariant material (a tet has one point and no
+// mean dilatation: element_quadrature): its projected Hessian's SVD goes in the batches, its
+// Hessian may be kept (kept_tet_hessians.hpp), and its energy and gradient alone take
+// invariant_tet_energy_gradient. That material, else null.
+inline const InvariantMaterial* one_point_invariant_tet(const Model& model, int e) {
+  return model.element_type[e] == ElementType::Tet4 ? model.bodies[model.element_body[e]].hyperelastic->as_invariant()
+                                                     : nullptr;
 }
 
 struct EveryElementIncluded {
@@ -53,7 +56,7 @@ void for_each_hyperelastic_element(const Model& model, const VecX& x, bool proje
         if (!takes(e)) continue;
         nodes[k] = gather_element_positions(model, x, e);
         quads[k] = element_quadrature(model, e);
-        if (projected_hessians && is_one_point_invariant_tet(model, e, nodes[k].count, quads[k])) {
+        if (projected_hessians && one_point_invariant_tet(model, e)) {
           F[in_batch] = deformation_gradient(quads[k].dN_dX[0], nodes[k]);
           batched[k] = in_batch++;
         }

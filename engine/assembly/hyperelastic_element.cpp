@@ -217,10 +217,9 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
   return sum_over_points(material, quad, nodes, gradient, &hessian, false, given);
 }
 
-double invariant_tet_energy_gradient(const Material& material, const Mat3& F, const Mat83& dN, double w,
+double invariant_tet_energy_gradient(const InvariantMaterial& material, const Mat3& F, const Mat83& dN, double w,
                                      Vec12& gradient) {
-  const InvariantMaterial& invariant = *material.as_invariant();
-  const InvariantTerms t = invariant.terms(F.squaredNorm(), F.determinant());
+  const InvariantTerms t = material.terms(F.squaredNorm(), F.determinant());
   const Mat3 P = invariant_pk1(F, t);
   for (int a = 0; a < 4; ++a) gradient.segment<3>(3 * a) = Vec3::Zero() + w * (P * dN.row(a).transpose());
   // 0 + energy, as sum_over_points sums it (the sign of a zero energy)

@@ -15,6 +15,8 @@
 
 namespace sinew {
 
+class InvariantMaterial;
+
 // F at one point: sum_a x_a (dN_a/dX)^T.
 Mat3 deformation_gradient(const Mat83& dN_dX, const ElementNodes& nodes);
 // The same for a tet, its four nodes' positions read from x (the whole position vector) at
@@ -57,11 +59,11 @@ double hyperelastic_tet_derivatives(const Material& material, const ElementQuadr
                                     const ElementNodes& nodes, Vec12& gradient, const TetHessianScatter& hessian,
                                     const GivenDeformation* given = nullptr);
 
-// Energy and gradient alone of a one-point tet of an invariant material (material.as_invariant()
-// not null) at its F, shape gradients dN and weight (rest volume) w: the bits of
+// Energy and gradient alone of a one-point tet of an invariant material at its F, shape
+// gradients dN and weight (rest volume) w: the bits of
 // hyperelastic_tet_derivatives without a Hessian, with none of its gathers and branches (the
 // gradient passes of Newton's line search and of tets whose Hessian is kept).
-double invariant_tet_energy_gradient(const Material& material, const Mat3& F, const Mat83& dN, double w,
+double invariant_tet_energy_gradient(const InvariantMaterial& material, const Mat3& F, const Mat83& dN, double w,
                                      Vec12& gradient);
 
 // The same with the exact Hessian d2Psi/dF2 (not projected; Newton near convergence), or the

@@ -47,7 +47,7 @@ void classify_kept_elements(const Model& model, KeptTetHessians& kept) {
   bool every = true, any = false;
   for (int e = 0; e < model.num_elements; ++e) {
     if (!is_hyperelastic_element(model, e)) continue;
-    const bool keeps = is_one_point_invariant_tet(model, e, element_node_count(model, e), element_quadrature(model, e));
+    const bool keeps = one_point_invariant_tet(model, e) != nullptr;
     every = every && keeps;
     any = any || keeps;
   }
@@ -127,10 +127,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
   };
   // A one-point tet of an invariant material, its F from x: the energies-and-gradient path
   // (no gathered copy of its nodes, no quadrature or batch bookkeeping; the same bits).
-  const auto lean_tet = [&](int e, const Material& material) {
-    return model.element_type[e] == ElementType::Tet4 && material.as_invariant() != nullptr;
-  };
-  const auto lean_energy_gradient = [&](int e, const Material& material, const Mat3& F) {
+  const auto lean_energy_gradient = [&](int e, const InvariantMaterial& material, const Mat3& F) {
     const int reference = model.element_reference[e];
     Vec12 g;
     energy[e] = invariant_tet_energy_gradient(material, F, model.tet_gradients[reference], model.tet_volumes[reference], g);
@@ -151,8 +148,8 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
       bool left = false;
       for (int e = range.begin(); e < range.end(); ++e) {
         if (!is_hyperelastic_element(model, e)) continue;
-        const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
-        if (!lean_tet(e, material)) {
+        const InvariantMaterial* material = one_point_invariant_tet(model, e);
+        if (!material) {
           left = true;
           continue;
         }
@@ -163,7 +160,7 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
           continue;
         }
         kept->fresh[e] = kKept;
-        lean_energy_gradient(e, material, F);
+        lean_energy_gradient(e, *material, F);
       }
       if (left) any_left.store(true, std::memory_order_relaxed);
     });
@@ -194,9 +191,8 @@ void hyperelastic_derivatives(const Model& model, const VecX& x, bool exact, std
     tbb::parallel_for(tbb::blocked_range<int>(0, model.num_elements, 256), [&](const tbb::blocked_range<int>& range) {
       for (int e = range.begin(); e < range.end(); ++e) {
         if (!is_hyperelastic_element(model, e)) continue;
-        const Material& material = *model.bodies[model.element_body[e]].hyperelastic;
-        if (lean_tet(e, material)) {
-          lean_energy_gradient(e, material, tet_F(e));
+        if (const InvariantMaterial* material = one_point_invariant_tet(model, e)) {
+          lean_energy_gradient(e, *material, tet_F(e));
         } else {
           visit(e, gather_element_positions(model, x, e), element_quadrature(model, e), nullptr);
         }

@@ -343,7 +343,7 @@ TEST_CASE("hyperelastic tet, energies and gradient alone: the bits of the full p
       inverted += F.determinant() < 0;
       Vec12 g_full, g_lean;
       const double e_full = hyperelastic_tet_derivatives(*material, t.quad, nodes, g_full, nullptr);
-      const double e_lean = invariant_tet_energy_gradient(*material, F, t.dN, t.quad.weight, g_lean);
+      const double e_lean = invariant_tet_energy_gradient(*material->as_invariant(), F, t.dN, t.quad.weight, g_lean);
       CHECK(same_bits(e_lean, e_full));
       for (int i = 0; i < 12; ++i) CHECK(same_bits(g_lean[i], g_full[i]));
     }
