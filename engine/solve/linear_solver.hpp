@@ -56,6 +56,9 @@ class LinearSolver {
   // max_iterations were not enough or A showed no positive curvature along a search direction.
   int solve_preconditioned(const SparseMatrix& A, const VecX& b, VecX& x, double tolerance, int max_iterations,
                            double scale = 0);
+  // b - A x at the end of the last solve_preconditioned, as CG's recurrence carried it (not a
+  // product formed again): valid until the next call.
+  const VecX& preconditioned_residual() const { return m_residual; }
   // Solves A X = B column by column, into X of B's size. CHOLMOD: blocks of columns solved
   // in parallel (one task per workspace, blocks dealt round robin), the split fixed by the
   // column count alone (X is bit-identical for any number of threads). Simplicial factors:

@@ -164,6 +164,18 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // iterate (converged, or at the cap) none at all (one Newton iteration a step assembled
   // the gradient again after its line search).
   bool derivatives_at_v = false;  // psi, force2 and dPsi are those at v, from the line search
+  // At the iteration cap, after a full step along a preconditioned CG direction that the line
+  // search left unchecked (its predicted decrease within the energies' round-off), gradient
+  // holds the quadratic model's gradient at v, g + H d = -(CG's residual), and no pass over
+  // the elements evaluates Phi's own there: the loop ends at v whatever the gradient, which
+  // only goes on as the model's residual (below). What that leaves out is (H_exact - H) d, H's
+  // tet Hessians being projected and kept from a nearby F: measured at 3e-7 of the step's
+  // scale on cube_20 at rest and at most 7e-8 on a settled hanging bar, within Newton's own
+  // tolerance (1e-6), where a converged Newton would stop too
+  // (test_newton_residual_handoff.cpp checks it). A resting cube_20's step made two passes
+  // (0.8-0.9 ms each on 2 threads): now one.
+  bool model_gradient_at_v = false;
+  int model_gradient_steps = 0;  // steps that ended on the model's gradient (stats)
   gather_free(model, state.v, v);
   state.v_start = v;
 
@@ -253,7 +265,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // factorisation is already there: its Hessian would go unused (one Newton iteration
     // per step assembled it twice).
     const int newton_cap = IterationCaps::effective(cfg.newton_max_iterations, state.caps.newton);
-    if (!derivatives_at_v) assemble(!(newton == newton_cap && factorised));
+    const bool from_model = model_gradient_at_v && newton == newton_cap;
+    model_gradient_at_v = false;
+    if (!derivatives_at_v && !from_model) assemble(!(newton == newton_cap && factorised));
     // Undefined energy (an inverted neo_hookean element) at the warm start: start from the
     // positions of the step's start instead (v = 0); if the energy is undefined there too,
     // the step has no incremental potential to minimise and fails.
@@ -269,9 +283,13 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         break;
       }
     }
-    multiply_A0(v, quadratic_gradient);
-    quadratic_gradient -= b0;
-    gradient = quadratic_gradient + model.h * dPsi;
+    if (from_model) {
+      ++model_gradient_steps;  // gradient already holds the model's (set with the step below)
+    } else {
+      multiply_A0(v, quadratic_gradient);
+      quadratic_gradient -= b0;
+      gradient = quadratic_gradient + model.h * dPsi;
+    }
     const double norm = gradient.norm();
     if (!std::isfinite(norm)) {
       ok = false;
@@ -305,6 +323,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     derivatives_at_v = false;
     bool usable = factorize();
     double slope = 0;
+    bool direction_from_pcg = false;  // CG's residual is then the model's at v + direction
     if (usable) {
       scratch.negative_gradient = -gradient;
       int iterations = -1;  // solve_preconditioned starts from direction = 0 itself
@@ -330,6 +349,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       }
       if (iterations >= 0) {
         preconditioned_iterations += iterations;
+        direction_from_pcg = true;
       } else if (usable) {
         StageTimer timer(state.profile, Stage::Solve);
         direction.setZero(v.size());
@@ -392,7 +412,11 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       dPsi.swap(dPsi_trial);
       derivatives_at_v = true;
     } else {
-      v += alpha * direction;
+      v += alpha * direction;  // alpha is 1: no trial was evaluated
+      if (direction_from_pcg && newton + 1 == newton_cap) {
+        gradient = -solver.preconditioned_residual();
+        model_gradient_at_v = true;
+      }
     }
   }
   if (!ok) state.system = A0;  // the matrix (its pattern) for the caller's retry
@@ -440,7 +464,10 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   state.profile.iterations["newton"] += newton;
   // With refactor_interval > 1 on every Newton step, 0 included: a name first met in a warm
   // step would allocate (profile_map.hpp).
-  if (cfg.refactor_interval > 1) state.profile.iterations["newton_pcg_fallbacks"] += pcg_fallbacks;
+  if (cfg.refactor_interval > 1) {
+    state.profile.iterations["newton_pcg_fallbacks"] += pcg_fallbacks;
+    state.profile.iterations["newton_model_gradient"] += model_gradient_steps;
+  }
   if (exact_steps) state.profile.iterations["newton_exact"] += exact_steps;
   if (preconditioned_iterations) state.profile.iterations["newton_pcg"] += preconditioned_iterations;
   // On every Newton step when Hessians are kept, 0 included (profile_map.hpp).
