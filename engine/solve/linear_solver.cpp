@@ -1,6 +1,7 @@
 #include "engine/solve/linear_solver.hpp"
 
 #include <cstdio>
+#include <cstring>
 
 #include <omp.h>
 #include <tbb/parallel_for.h>
@@ -42,6 +43,19 @@ void report_cholmod_error(int status, const char* file, int line, const char* me
   if (status < 0) std::fprintf(stderr, "CHOLMOD error %d: %s (%s:%d)\n", status, message, file, line);
 }
 
+// to = from (compressed), into to's arrays where they have the size: no allocation once warm.
+void copy_compressed(const SparseMatrix& from, SparseMatrix& to) {
+  if (to.rows() != from.rows() || to.cols() != from.cols() || to.nonZeros() != from.nonZeros() ||
+      !to.isCompressed() || !from.isCompressed()) {
+    to = from;
+    to.makeCompressed();
+    return;
+  }
+  std::copy(from.outerIndexPtr(), from.outerIndexPtr() + from.outerSize() + 1, to.outerIndexPtr());
+  std::copy(from.innerIndexPtr(), from.innerIndexPtr() + from.nonZeros(), to.innerIndexPtr());
+  std::copy(from.valuePtr(), from.valuePtr() + from.nonZeros(), to.valuePtr());
+}
+
 }  // namespace
 
 LinearSolver::LinearSolver(const SolverDesc& desc)
@@ -54,6 +68,7 @@ LinearSolver::LinearSolver(const SolverDesc& desc)
 bool LinearSolver::factorize(const SparseMatrix& A) {
   ++m_factorizations;
   m_matrix = &A;
+  m_factored_valid = false;
   if (!m_use_cholmod) {
     m_cg.compute(A);
     return true;
@@ -90,9 +105,24 @@ bool LinearSolver::factorize(const SparseMatrix& A) {
     m_tree_solve = SupernodalTreeSolve{};
     m_analyzed = true;
   }
+  if (m_keep_factored) copy_compressed(A, m_factored);
   limit_openmp();
   m_cholmod.factorize(A);
+  m_factored_valid = m_keep_factored && m_cholmod.info() == Eigen::Success;
   return m_cholmod.info() == Eigen::Success;
+}
+
+bool LinearSolver::holds_factor_of(const SparseMatrix& A) const {
+  if (!m_factored_valid || !m_use_cholmod || !A.isCompressed() || A.rows() != m_factored.rows() ||
+      A.cols() != m_factored.cols() || A.nonZeros() != m_factored.nonZeros())
+    return false;
+  const auto same = [](const auto* a, const auto* b, Eigen::Index n) {
+    return n == 0 || std::memcmp(a, b, static_cast<size_t>(n) * sizeof(*a)) == 0;
+  };
+  // Bit for bit (memcmp: -0.0 differs from 0.0, as it may in the factor's round-off).
+  return same(A.outerIndexPtr(), m_factored.outerIndexPtr(), A.outerSize() + 1) &&
+         same(A.innerIndexPtr(), m_factored.innerIndexPtr(), A.nonZeros()) &&
+         same(A.valuePtr(), m_factored.valuePtr(), A.nonZeros());
 }
 
 long LinearSolver::factor_entries() const {

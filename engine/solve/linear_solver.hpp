@@ -84,11 +84,19 @@ class LinearSolver {
     solve_many(B, Eigen::Ref<MatX>(X));
   }
   static constexpr int kSolveBlock = SupernodalBlockSolve::kMaxWidth;
-  void reset_pattern() { m_analyzed = false; }
+  void reset_pattern() { m_analyzed = m_factored_valid = false; }
   bool uses_cholmod() const { return m_use_cholmod; }
   double last_residual() const { return m_last_residual; }
   // Work counters since construction (StepWork): factorize() calls and right-hand sides solved.
   long factorizations() const { return m_factorizations; }
+  // With keep_factored_matrix(true), factorize keeps a copy of each matrix it factorises
+  // (pattern and values; no allocation once it has the size), and holds_factor_of(A) says
+  // whether the last factorisation succeeded and was of A bit for bit, so that its factor is
+  // what factorising A again would make: Newton's Hessian at rest, its tet Hessians all kept,
+  // is the same matrix step after step (solve_newton.cpp). Off by default (a copy a
+  // factorisation).
+  void keep_factored_matrix(bool keep) { m_keep_factored = keep; }
+  bool holds_factor_of(const SparseMatrix& A) const;
   long solves() const { return m_solves; }
   // Entries stored in the CHOLMOD factor (0 without one): a solve costs about two
   // multiply-adds per entry.
@@ -105,6 +113,8 @@ class LinearSolver {
   PcgTotals m_pcg_totals;
   VecX m_residual, m_preconditioned, m_search, m_product;  // solve_preconditioned's, kept
   long m_factorizations = 0, m_solves = 0;
+  bool m_keep_factored = false, m_factored_valid = false;
+  SparseMatrix m_factored;  // the last matrix factorised, with m_keep_factored
   SolverDesc m_desc;
   bool m_single_precision_preconditioner;  // m_desc.stale_factor_precision == "single"
   // Eigen's wrapper, with the factor exposed for solves from several threads at once.

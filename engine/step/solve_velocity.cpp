@@ -59,6 +59,16 @@ bool factorisation_still_current(const Model& model, const LinearSolver& solver,
 
 }  // namespace
 
+void keep_factorisation_as_current(const Model& model, State& state, const char* reason) {
+  // With what was solved with it: H^-1's columns on the touched nodes and the rows' columns
+  // are still exact. A G kept from an earlier factorisation (delassus_reuse) ages as it
+  // would have at a factorisation.
+  state.factor_age = 0;
+  state.factor_exact = true;
+  if (state.touched_inverse.stale() && !touched_inverse_young(model, state)) state.touched_inverse.reset(model.num_free);
+  state.profile.skipped[static_cast<int>(Stage::Factorize)] = reason;
+}
+
 // Factorises H = A + (the constraints' curvature from the previous step, if any) and takes
 // one Newton step from the previous velocities: v = v0 + H^-1 (b - A v0). Without
 // constraints H = A and this is v* = A^-1 b of eq. 19; with them, the same factorisation
@@ -120,13 +130,7 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
     ++state.factor_age;
     state.factor_unmoved = false;
     if (!reuse && state.step_count > 0 && factorisation_still_current(model, solver, state)) {
-      // This step's factorisation would be the one the solver holds: keep it as this step's,
-      // with what was solved with it. A G kept from an earlier factorisation (delassus_reuse)
-      // ages as it would have at a factorisation.
-      state.factor_age = 0;
-      state.factor_exact = true;
-      if (state.touched_inverse.stale() && !touched_inverse_young(model, state)) state.touched_inverse.reset(model.num_free);
-      state.profile.skipped[static_cast<int>(Stage::Factorize)] = "no rotation moved since the last factorisation";
+      keep_factorisation_as_current(model, state, "no rotation moved since the last factorisation");
     } else if (reuse) {
       state.factor_exact = false;
       // Still this step's A when no rotation moved (a fall, a body at rest): factor_use.

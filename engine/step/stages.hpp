@@ -42,6 +42,10 @@ bool solve_velocity(const Model& model, LinearSolver& solver, State& state);
 // rotations did not move, which only the step's assembly can tell). `uses_cholmod`: PCG
 // never keeps one. For the real-time budget's forecast of the next step's cost.
 bool reuses_factorisation(const Model& model, bool uses_cholmod, const State& state);
+// A due factorisation replaced by the one the solver holds, which is this step's (the same
+// matrix): as a factorisation made now, with what was solved with it kept; stats:
+// `factorize` skipped with `reason`.
+void keep_factorisation_as_current(const Model& model, State& state, const char* reason);
 // The factorisation alone. H^-1 on the touched nodes (state.touched_inverse) is forgotten,
 // or kept as an approximation while solver.delassus_reuse allows and `may_keep_delassus`.
 bool factorize_step_system(const Model& model, LinearSolver& solver, State& state, bool may_keep_delassus = true);
