@@ -108,7 +108,8 @@ struct State {
   bool curvature_pending = false;
   bool factor_curved = false;        // the last factorisation included curvature
   bool factor_exact = false;         // the solver holds this step's A (solve): factorised this step, or
-                                     // kept with every rotation within 1e-12 of its own (solve_velocity.cpp)
+                                     // kept with every rotation within 1e-12 of its own (solve_velocity.cpp),
+                                     // or Newton's H bit for bit the matrix factorised (solve_newton.cpp)
   int factor_age = 0;                // steps since the last factorisation (solve)
   bool factor_unmoved = false;       // reused for this step with no rotation moved since it was made and
                                      // no curvature in it: this step's A, though factor_exact is false

@@ -76,7 +76,8 @@ void World::rest_step() {
 }
 
 // A failed attempt is rolled back (attempt_step) and retried, deterministically: first
-// afresh (a new factorisation, no warm start, no constraint curvature: what a step carries
+// afresh (a new factorisation, or the one held if it is of the very same matrix, bit for
+// bit (Newton, holds_factor_of); no warm start, no constraint curvature: what a step carries
 // over from the last one is the usual suspect), then as 2 and then 4 sub-steps of h/2 and
 // h/4 (each sub-step afresh too). t and step_count advance as for one step of h.
 bool World::step() {

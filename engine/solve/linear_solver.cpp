@@ -120,9 +120,10 @@ bool LinearSolver::holds_factor_of(const SparseMatrix& A) const {
     return n == 0 || std::memcmp(a, b, static_cast<size_t>(n) * sizeof(*a)) == 0;
   };
   // Bit for bit (memcmp: -0.0 differs from 0.0, as it may in the factor's round-off).
-  return same(A.outerIndexPtr(), m_factored.outerIndexPtr(), A.outerSize() + 1) &&
-         same(A.innerIndexPtr(), m_factored.innerIndexPtr(), A.nonZeros()) &&
-         same(A.valuePtr(), m_factored.valuePtr(), A.nonZeros());
+  // Values first: a matrix that changed usually differs within the first entries.
+  return same(A.valuePtr(), m_factored.valuePtr(), A.nonZeros()) &&
+         same(A.outerIndexPtr(), m_factored.outerIndexPtr(), A.outerSize() + 1) &&
+         same(A.innerIndexPtr(), m_factored.innerIndexPtr(), A.nonZeros());
 }
 
 long LinearSolver::factor_entries() const {

@@ -54,6 +54,13 @@ double energy_noise(const Model& model) {
 // gradient below 1 still let one run away later (bench/results/README.md, session 39).
 constexpr double kTrustedResidual = 0.1;
 
+// The largest solver.hessian_reuse_tolerance (its default) at which Newton ends on the model's
+// gradient after an unchecked CG step (below): what that leaves out grows with the kept
+// Hessians' age. Measured on a settled hanging bar as a fraction of the step's scale, at
+// 1e-3 / 1e-2 / 5e-2: 7e-8 / 1.3e-7 / 9.9e-7 (E 200 kPa), 2.8e-7 / 2.6e-6 / 1.9e-5 (E 2 MPa),
+// against Newton's tolerance of 1e-6.
+constexpr double kModelGradientReuseLimit = 1e-3;
+
 }  // namespace
 
 // Backward Euler for hyperelastic bodies as the minimisation of the incremental potential
@@ -172,7 +179,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // tet Hessians being projected and kept from a nearby F: measured at 3e-7 of the step's
   // scale on cube_20 at rest and at most 7e-8 on a settled hanging bar, within Newton's own
   // tolerance (1e-6), where a converged Newton would stop too
-  // (test_newton_residual_handoff.cpp checks it). A resting cube_20's step made two passes
+  // (test_newton_residual_handoff.cpp checks it), at hessian_reuse_tolerance 1e-3 (its
+  // default); with older kept Hessians it can exceed it, so the path is taken only up to
+  // kModelGradientReuseLimit. A resting cube_20's step made two passes
   // (0.8-0.9 ms each on 2 threads): now one.
   bool model_gradient_at_v = false;
   int model_gradient_steps = 0;  // steps that ended on the model's gradient (stats)
@@ -239,6 +248,8 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       // at rest refactorised a 2.97M-entry factor every refactor_interval steps, ~53 ms on
       // 2 threads, to the same values).
       keep_factorisation_as_current(model, state, "Newton's Hessian unchanged since the last factorisation");
+      // A factorisation made at an earlier iteration of this step stays reported as made.
+      if (factorised_this_step) state.profile.skipped[static_cast<int>(Stage::Factorize)].clear();
       state.factor_curved = false;
       factorised = true;
     } else {
@@ -425,7 +436,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
       derivatives_at_v = true;
     } else {
       v += alpha * direction;  // alpha is 1: no trial was evaluated
-      if (direction_from_pcg && newton + 1 == newton_cap) {
+      if (direction_from_pcg && newton + 1 == newton_cap && cfg.hessian_reuse_tolerance <= kModelGradientReuseLimit) {
         gradient = -solver.preconditioned_residual();
         model_gradient_at_v = true;
       }

@@ -117,6 +117,7 @@ bool reuses_factorisation(const Model& model, bool uses_cholmod, const State& st
 }
 
 bool solve_velocity(const Model& model, LinearSolver& solver, State& state) {
+  solver.keep_factored_matrix(false);  // Newton's test (holds_factor_of) alone needs the copy
   {
     StageTimer timer(state.profile, Stage::Factorize);
     // PCG never reuses: its "factorisation" is the diagonal and a pointer to the matrix its
