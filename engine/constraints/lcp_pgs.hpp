@@ -6,6 +6,7 @@
 // as the sweep goes (a box approximation of the Coulomb cone, two rows per contact).
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "engine/constraints/lcp_subspace.hpp"
 #include "engine/constraints/row_table.hpp"
@@ -54,9 +55,14 @@ inline double natural_residual(double lambda, double w, double diagonal, double 
 // With subspace_interval > 0, every that many sweeps that leave the tolerance unmet are
 // followed by a subspace step (lcp_subspace.hpp; W must then provide multiply_rows) of at most
 // kSubspaceCg conjugate-gradient iterations.
+// With an `offset` (m values), w = W (lambda - offset) + c: the LCP of c - W offset, whose
+// products with W (W.start, from scratch) are taken of lambda - offset. A caller who knows w
+// at a warm start equal to the offset passes it as c: the first start then costs no product
+// with W (the first QP after the Newton predictor: w = C/h at lambda_0).
 template <typename Operator, typename Rows>
 PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::Ref<const VecX>& weight,
-                    Rows& rows, int max_iterations, double tolerance, int subspace_interval = 0) {
+                    Rows& rows, int max_iterations, double tolerance, int subspace_interval = 0,
+                    const double* offset = nullptr) {
   // Subspace steps of 10 CG iterations: on paper 001's pressed finger, 20 cost more
   // products than the sweeps they save, 5 save too few.
   constexpr int kRefresh = 16, kSubspaceCg = 10;
@@ -65,8 +71,15 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
   PgsResult result;
   thread_local SubspaceScratch scratch;
   if (subspace_interval > 0) scratch.reserve(m);  // now, not at the first step that needs it
+  thread_local std::vector<double> shifted;  // lambda - offset (kept: no allocation once warm)
+  const auto start = [&] {
+    if (!offset) return W.start(lambda, c);
+    shifted.resize(m);
+    for (int i = 0; i < m; ++i) shifted[i] = lambda[i] - offset[i];
+    W.start(Eigen::Map<const VecX>(shifted.data(), m), c);
+  };
   for (int it = 0; it < max_iterations; ++it) {
-    if (it % kRefresh == 0) W.start(lambda, c);
+    if (it % kRefresh == 0) start();
     for (int i = 0; i < m; ++i) {
       if (!(W.diagonal(i) > 0)) continue;  // a row that moves no free DOF: nothing to solve
       double lo, hi;
@@ -88,7 +101,7 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
     if (result.residual <= tolerance) break;
     if (subspace_interval > 0 && (it + 1) % subspace_interval == 0 && it + 1 < max_iterations) {
       result.subspace_products += subspace_step(W, rows, lambda, kSubspaceCg, scratch);
-      W.start(lambda, c);
+      start();
     }
   }
   return result;

@@ -2,7 +2,9 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
+#include <limits>
 #include <random>
+#include <vector>
 
 #include "engine/constraints/lcp_pgs.hpp"
 #include "tests/support/dense_decompositions.hpp"
@@ -211,4 +213,87 @@ TEST_CASE("PGS with subspace steps reaches the tolerance in fewer sweeps and pro
     MESSAGE("|W (l - l*)| = " << (W * (l - solution)).norm() << ", bound " << std::sqrt(norm * gap));
     CHECK((W * (l - solution)).norm() <= std::sqrt(norm * gap) * (1 + 1e-6) + 1e-12 * c.norm());
   }
+}
+
+namespace {
+
+// A dense W as a solve_pgs operator (DenseLcpMatrix's arithmetic) that also counts the
+// non-zero multipliers each start() multiplies W by.
+class CountingLcpMatrix {
+ public:
+  explicit CountingLcpMatrix(const MatX& W) : m_W(W) {}
+  double diagonal(int i) const { return m_W(i, i); }
+  void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c) {
+    m_w = c;
+    for (Eigen::Index j = 0; j < lambda.size(); ++j)
+      if (lambda[j] != 0) m_w += m_W.col(j) * lambda[j], ++products;
+  }
+  double w(int i) const { return m_w[i]; }
+  void changed(int i, double delta) { m_w += m_W.col(i) * delta; }
+  void multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> out) const {
+    principal_block_product(m_W, rows, x, out);
+  }
+  long products = 0;  // columns of W taken by start()
+
+ private:
+  const MatX& m_W;
+  VecX m_w;
+};
+
+// Contacts with two friction rows each (mu 0.4), warm-started at lambda0.
+RowTable contact_rows(int contacts, const VecX& lambda0) {
+  RowTable rows;
+  for (int k = 0; k < contacts; ++k) {
+    const int n = rows.add_row(RowKind::Contact, 0, 0, 1e300, 3 * k);
+    for (int t = 0; t < 2; ++t) {
+      const int r = rows.add_row(RowKind::Friction, 0, 0, 0, 3 * k + 1 + t);
+      rows.normal_row[r] = n;
+      rows.mu[r] = 0.4;
+    }
+  }
+  for (int i = 0; i < rows.size(); ++i) rows.lambda[i] = lambda0[i];
+  return rows;
+}
+
+}  // namespace
+
+TEST_CASE("PGS with an offset solves the LCP of c - W offset, with no product at a start from the offset") {
+  // The first QP after the Newton predictor: w = C/h at the warm start lambda_0, the LCP's c
+  // is C/h - W lambda_0. Given C/h and lambda_0 as the offset, PGS reaches the same
+  // tolerance on that LCP, and its first start multiplies W by nothing.
+  std::mt19937 rng(5);
+  const int contacts = 8, m = 3 * contacts;
+  const MatX W = random_spd(m, rng);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  VecX lambda0(m), w0(m);
+  for (int k = 0; k < contacts; ++k) {
+    lambda0[3 * k] = 1 + uniform(rng);  // a push, its friction inside the box
+    for (int t = 1; t <= 2; ++t) lambda0[3 * k + t] = 0.2 * lambda0[3 * k] * uniform(rng);
+  }
+  for (int i = 0; i < m; ++i) w0[i] = 0.5 * uniform(rng);  // C/h: the rows moved since lambda_0
+  const VecX c = w0 - W * lambda0;
+  const double tolerance = 1e-10;
+  const VecX ones = VecX::Ones(m);
+  RowTable plain = contact_rows(contacts, lambda0), shifted = contact_rows(contacts, lambda0);
+  CountingLcpMatrix plain_op(W), shifted_op(W);
+  const PgsResult a = solve_pgs(plain_op, c, ones, plain, 100000, tolerance, 8);
+  // Only the first start is counted: the offset form's later ones (refreshes, after
+  // subspace steps) multiply by lambda - lambda_0, which no longer vanishes.
+  CountingLcpMatrix first(W);
+  RowTable once = contact_rows(contacts, lambda0);
+  solve_pgs(first, w0, ones, once, 1, tolerance, 0, lambda0.data());
+  CHECK(first.products == 0);
+  const PgsResult b = solve_pgs(shifted_op, w0, ones, shifted, 100000, tolerance, 8, lambda0.data());
+  MESSAGE("sweeps: " << a.iterations << " plain, " << b.iterations << " with the offset");
+  CHECK(a.residual <= tolerance);
+  CHECK(b.residual <= tolerance);
+  // Both stop on w carried by updates (refreshed every 16 sweeps: an entry of w carries the
+  // round-off of at most 16 m column updates, each within eps of |W| |lambda|, beside a
+  // fresh W lambda + c's m terms); a row's natural residual moves by at most as much as its
+  // w. Measured afresh on the plain LCP, the offset form's lambda meets it within that.
+  const VecX lambda_b = Eigen::Map<const VecX>(shifted.lambda.data(), m);
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double roundoff =
+      17.0 * m * eps * (m * W.cwiseAbs().maxCoeff() * lambda_b.cwiseAbs().maxCoeff() + c.cwiseAbs().maxCoeff());
+  CHECK(lcp_residual(W, c, shifted) <= tolerance + roundoff);
 }
