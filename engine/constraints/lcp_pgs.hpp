@@ -72,6 +72,7 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
   thread_local SubspaceScratch scratch;
   if (subspace_interval > 0) scratch.reserve(m);  // now, not at the first step that needs it
   thread_local std::vector<double> shifted;  // lambda - offset (kept: no allocation once warm)
+  shifted.reserve(m);  // on every call: sized by the largest LCP of any kind, as scratch
   const auto start = [&] {
     if (!offset) return W.start(lambda, c);
     shifted.resize(m);
