@@ -217,27 +217,24 @@ TEST_CASE("PGS with subspace steps reaches the tolerance in fewer sweeps and pro
 
 namespace {
 
-// A dense W as a solve_pgs operator (DenseLcpMatrix's arithmetic) that also counts the
-// non-zero multipliers each start() multiplies W by.
+// DenseLcpMatrix that also counts the non-zero multipliers each start() multiplies W by.
 class CountingLcpMatrix {
  public:
-  explicit CountingLcpMatrix(const MatX& W) : m_W(W) {}
-  double diagonal(int i) const { return m_W(i, i); }
+  explicit CountingLcpMatrix(const MatX& W) : m_dense(W) {}
+  double diagonal(int i) const { return m_dense.diagonal(i); }
   void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c) {
-    m_w = c;
-    for (Eigen::Index j = 0; j < lambda.size(); ++j)
-      if (lambda[j] != 0) m_w += m_W.col(j) * lambda[j], ++products;
+    products += (lambda.array() != 0).count();
+    m_dense.start(lambda, c);
   }
-  double w(int i) const { return m_w[i]; }
-  void changed(int i, double delta) { m_w += m_W.col(i) * delta; }
+  double w(int i) const { return m_dense.w(i); }
+  void changed(int i, double delta) { m_dense.changed(i, delta); }
   void multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> out) const {
-    principal_block_product(m_W, rows, x, out);
+    m_dense.multiply_rows(rows, x, out);
   }
   long products = 0;  // columns of W taken by start()
 
  private:
-  const MatX& m_W;
-  VecX m_w;
+  DenseLcpMatrix m_dense;
 };
 
 // Contacts with two friction rows each (mu 0.4), warm-started at lambda0.
