@@ -5,28 +5,10 @@
 #include <algorithm>
 #include <numeric>
 
-#include "engine/core/cpu_features.hpp"
 #include "engine/solve/supernode_view.hpp"
 #include "engine/solve/tree_kernels.hpp"
 
 namespace sinew {
-
-namespace {
-
-// One supernode's forward and backward passes (tree_kernels.hpp), AVX2 where the CPU has it.
-template <class Real>
-void tree_forward(const BasicSupernodeView<Real>& s, double* y, double* gather) {
-  if (use_avx2()) tree_forward_avx2(s, y, gather);
-  else tree_forward_baseline(s, y, gather);
-}
-
-template <class Real>
-void tree_backward(const BasicSupernodeView<Real>& s, double* y, double* gather) {
-  if (use_avx2()) tree_backward_avx2(s, y, gather);
-  else tree_backward_baseline(s, y, gather);
-}
-
-}  // namespace
 
 void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
   m_factor = &L;
@@ -106,10 +88,13 @@ void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
   for (auto& bin : m_bins)
     std::sort(bin.begin(), bin.end(), [](const Range& a, const Range& b) { return a.first < b.first; });
   m_top_entries = 0;
+  m_widest_top = 0;
   for (int s = 0; s < count; ++s) {
     if (in_bin[s]) continue;
     m_top.push_back(s);
     m_top_entries += cost[s];
+    m_widest_top = std::max(m_widest_top, super[s + 1] - super[s]);
+    m_wide.reserve(super[s + 1] - super[s]);
     for (int k = super[s]; k < super[s + 1]; ++k) m_top_rows.push_back(k);
   }
   for (int b = 0; b < 2; ++b) {
@@ -154,8 +139,15 @@ void SupernodalTreeSolve::solve_with(const cholmod_factor& L, const Real* values
   };
   tbb::parallel_invoke([&] { bin_forward(0); }, [&] { bin_forward(1); });
   for (const int k : m_top_rows) y[k] = (y[k] + m_bin_y[0][k]) + m_bin_y[1][k];
-  for (const int s : m_top) tree_forward(view(s), y, m_gather[0].data());
-  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) tree_backward(view(*s), y, m_gather[0].data());
+  // The top on this thread, its wide supernodes (the root) on both (wide_supernode_passes.hpp).
+  for (const int s : m_top) {
+    if (const auto sn = view(s); WideSupernodePasses::worth_two_threads(sn.columns)) m_wide.forward(sn, y, m_gather[0].data());
+    else tree_forward(sn, y, m_gather[0].data());
+  }
+  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) {
+    if (const auto sn = view(*s); WideSupernodePasses::worth_two_threads(sn.columns)) m_wide.backward(sn, y, m_gather[0].data());
+    else tree_backward(sn, y, m_gather[0].data());
+  }
   const auto bin_backward = [&](int bin) {
     const auto& ranges = m_bins[bin];
     for (auto range = ranges.rbegin(); range != ranges.rend(); ++range)

@@ -5,6 +5,7 @@
 // rest, their ancestors ("top"). Forward: each bin runs on its own copy of the vector (its
 // updates to top rows accumulate there), the copies are summed into the top rows in a fixed
 // order, then the top runs. Backward: the top first, then the bins, which only read top rows.
+// The top's wide supernodes (the root) run on both threads too (wide_supernode_passes.hpp).
 // The split depends on the factor alone: the result is bit-identical for any thread count.
 // Per supernode, BLAS-2 work by sinew's own passes (tree_kernels.hpp: no BLAS call, as Debian's
 // serial OpenBLAS may not run on two threads at once), on the factor's values or a
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "engine/core/types.hpp"
+#include "engine/solve/wide_supernode_passes.hpp"
 
 namespace sinew {
 
@@ -31,6 +33,8 @@ class SupernodalTreeSolve {
   // Work in the bins and the top, as factor entries (tests, docs).
   long bin_entries(int b) const { return m_bin_entries[b]; }
   long top_entries() const { return m_top_entries; }
+  // Columns of the top's widest supernode (tests: whether WideSupernodePasses takes part).
+  int widest_top_columns() const { return m_widest_top; }
   // Whether the supernodes can be solved in their own order on one thread (every parent
   // after its children; CHOLMOD's postorder): the single-precision solve below needs it.
   bool ordered() const { return m_ordered; }
@@ -58,9 +62,11 @@ class SupernodalTreeSolve {
   std::vector<int> m_top_rows;  // their rows of L
   std::array<long, 2> m_bin_entries{};
   long m_top_entries = 0;
+  int m_widest_top = 0;
   int m_max_below = 0;          // rows below a supernode's triangle, at most
   std::vector<double> m_y;      // the shared vector, in the factor's order
   std::array<std::vector<double>, 2> m_bin_y, m_gather;  // per bin: its copy, its gather buffer
+  WideSupernodePasses m_wide;   // the top's wide supernodes on two threads
 };
 
 }  // namespace sinew

@@ -1,5 +1,6 @@
 #include <immintrin.h>
 
+#include <algorithm>
 #include <cstddef>
 
 #include "engine/solve/tree_kernels.hpp"
@@ -103,60 +104,63 @@ void subtract_scaled4(double* x, const Real* const c[4], const double v[4], int 
 
 }  // namespace
 
-// The triangle first, then the rows below: each entry still takes its columns' steps in order.
 template <class Real>
-void tree_forward_avx2(const BasicSupernodeView<Real>& s, double* y, double* gather) {
-  double* ys = y + s.first;
-  const int below = s.height - s.columns;
-  const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height; };
-  for (int k = 0; k < s.columns; ++k) {
-    ys[k] /= static_cast<double>(column(k)[k]);
-    subtract_scaled(ys + k + 1, column(k) + k + 1, ys[k], s.columns - 1 - k);
+void tree_forward_rect_avx2(const BasicSupernodeView<Real>& s, const double* ys, int c0, int c1, int r0, int r1, double* x) {
+  const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height + r0; };
+  const int n = r1 - r0;
+  int k = c0;
+  for (; k + 3 < c1; k += 4) {
+    const Real* const c[4] = {column(k), column(k + 1), column(k + 2), column(k + 3)};
+    subtract_scaled4(x, c, ys + k, n);
   }
-  if (below == 0) return;
-  for (int i = 0; i < below; ++i) gather[i] = y[s.rows[s.columns + i]];
-  int k = 0;
-  for (; k + 3 < s.columns; k += 4) {
-    const Real* const c[4] = {column(k) + s.columns, column(k + 1) + s.columns, column(k + 2) + s.columns,
-                              column(k + 3) + s.columns};
-    subtract_scaled4(gather, c, ys + k, below);
-  }
-  for (; k + 1 < s.columns; k += 2)
-    subtract_scaled2(gather, column(k) + s.columns, ys[k], column(k + 1) + s.columns, ys[k + 1], below);
-  if (k < s.columns) subtract_scaled(gather, column(k) + s.columns, ys[k], below);
-  for (int i = 0; i < below; ++i) y[s.rows[s.columns + i]] = gather[i];
+  for (; k + 1 < c1; k += 2) subtract_scaled2(x, column(k), ys[k], column(k + 1), ys[k + 1], n);
+  if (k < c1) subtract_scaled(x, column(k), ys[k], n);
 }
 
 template <class Real>
-void tree_backward_avx2(const BasicSupernodeView<Real>& s, double* y, double* gather) {
-  double* ys = y + s.first;
-  const int below = s.height - s.columns;
-  const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height; };
-  if (below > 0) {
-    for (int i = 0; i < below; ++i) gather[i] = y[s.rows[s.columns + i]];
-    int k = 0;
-    for (; k + 3 < s.columns; k += 4) {
-      const Real* const c[4] = {column(k) + s.columns, column(k + 1) + s.columns, column(k + 2) + s.columns,
-                                column(k + 3) + s.columns};
-      double d[4];
-      dot4(c, gather, below, d);
-      for (int j = 0; j < 4; ++j) ys[k + j] -= d[j];
-    }
-    for (; k + 1 < s.columns; k += 2) {
-      double d0, d1;
-      dot2(column(k) + s.columns, column(k + 1) + s.columns, gather, below, d0, d1);
-      ys[k] -= d0, ys[k + 1] -= d1;
-    }
-    if (k < s.columns) ys[k] -= dot(column(k) + s.columns, gather, below);
+void tree_forward_diagonal_avx2(const BasicSupernodeView<Real>& s, double* ys, int b0, int b1) {
+  for (int k = b0; k < b1; ++k) {
+    const Real* column = s.L + static_cast<std::size_t>(k) * s.height;
+    ys[k] /= static_cast<double>(column[k]);
+    subtract_scaled(ys + k + 1, column + k + 1, ys[k], b1 - 1 - k);
   }
-  for (int k = s.columns - 1; k >= 0; --k)
-    ys[k] = (ys[k] - dot(column(k) + k + 1, ys + k + 1, s.columns - 1 - k)) / static_cast<double>(column(k)[k]);
 }
 
-template void tree_forward_avx2(const SupernodeView&, double*, double*);
-template void tree_forward_avx2(const SingleSupernodeView&, double*, double*);
-template void tree_backward_avx2(const SupernodeView&, double*, double*);
-template void tree_backward_avx2(const SingleSupernodeView&, double*, double*);
+template <class Real>
+void tree_backward_rect_avx2(const BasicSupernodeView<Real>& s, const double* x, int r0, int r1, int c0, int c1, double* ys) {
+  const auto column = [&](int k) { return s.L + static_cast<std::size_t>(k) * s.height + r0; };
+  const int n = r1 - r0;
+  int k = c0;
+  for (; k + 3 < c1; k += 4) {
+    const Real* const c[4] = {column(k), column(k + 1), column(k + 2), column(k + 3)};
+    double d[4];
+    dot4(c, x, n, d);
+    for (int j = 0; j < 4; ++j) ys[k + j] -= d[j];
+  }
+  for (; k + 1 < c1; k += 2) {
+    double d0, d1;
+    dot2(column(k), column(k + 1), x, n, d0, d1);
+    ys[k] -= d0, ys[k + 1] -= d1;
+  }
+  if (k < c1) ys[k] -= dot(column(k), x, n);
+}
+
+template <class Real>
+void tree_backward_diagonal_avx2(const BasicSupernodeView<Real>& s, double* ys, int b0, int b1) {
+  for (int k = b1 - 1; k >= b0; --k) {
+    const Real* column = s.L + static_cast<std::size_t>(k) * s.height;
+    ys[k] = (ys[k] - dot(column + k + 1, ys + k + 1, b1 - 1 - k)) / static_cast<double>(column[k]);
+  }
+}
+
+template void tree_forward_rect_avx2(const SupernodeView&, const double*, int, int, int, int, double*);
+template void tree_forward_rect_avx2(const SingleSupernodeView&, const double*, int, int, int, int, double*);
+template void tree_forward_diagonal_avx2(const SupernodeView&, double*, int, int);
+template void tree_forward_diagonal_avx2(const SingleSupernodeView&, double*, int, int);
+template void tree_backward_rect_avx2(const SupernodeView&, const double*, int, int, int, int, double*);
+template void tree_backward_rect_avx2(const SingleSupernodeView&, const double*, int, int, int, int, double*);
+template void tree_backward_diagonal_avx2(const SupernodeView&, double*, int, int);
+template void tree_backward_diagonal_avx2(const SingleSupernodeView&, double*, int, int);
 
 }  // namespace sinew
 

@@ -110,6 +110,8 @@ TEST_CASE("supernodal tree solve: CHOLMOD's solution, every supernode once, a sp
 }
 
 TEST_CASE("supernodal tree solve: bit-identical on 1 and 2 threads") {
+  // Its root separator (10 x 10 nodes) is wide enough for both threads to share it
+  // (wide_supernode_passes.hpp).
   const SparseMatrix A = hex_grid_matrix(10);
   const Factor factor(A, CHOLMOD_NESDIS);
   const VecX b = random_vector(static_cast<int>(A.rows()), 5);
@@ -118,6 +120,7 @@ TEST_CASE("supernodal tree solve: bit-identical on 1 and 2 threads") {
     SupernodalTreeSolve tree;
     tree.analyse(factor.L());
     REQUIRE(tree.usable());
+    REQUIRE(WideSupernodePasses::worth_two_threads(tree.widest_top_columns()));
     VecX x(b.size()), single(b.size());
     tree.solve(factor.L(), b.data(), x.data());
     tree.solve(factor.L(), b.data(), x.data());  // again on the same buffers
