@@ -17,6 +17,7 @@ void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
   for (auto& bin : m_bins) bin.clear();
   m_top.clear();
   m_top_rows.clear();
+  m_widest_top = 0;
   if (!L.is_super || !L.is_ll || L.itype != CHOLMOD_INT || L.xtype != CHOLMOD_REAL) return;
   const int count = static_cast<int>(L.nsuper);
   const int* super = static_cast<const int*>(L.super);
@@ -88,13 +89,12 @@ void SupernodalTreeSolve::analyse(const cholmod_factor& L) {
   for (auto& bin : m_bins)
     std::sort(bin.begin(), bin.end(), [](const Range& a, const Range& b) { return a.first < b.first; });
   m_top_entries = 0;
-  m_widest_top = 0;
   for (int s = 0; s < count; ++s) {
     if (in_bin[s]) continue;
     m_top.push_back(s);
     m_top_entries += cost[s];
     m_widest_top = std::max(m_widest_top, super[s + 1] - super[s]);
-    m_wide.reserve(super[s + 1] - super[s]);
+    if (WideSupernodePasses::worth_two_threads(super[s + 1] - super[s])) m_wide.reserve(super[s + 1] - super[s]);
     for (int k = super[s]; k < super[s + 1]; ++k) m_top_rows.push_back(k);
   }
   for (int b = 0; b < 2; ++b) {

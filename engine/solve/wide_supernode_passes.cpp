@@ -3,17 +3,26 @@
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <cassert>
 #include <thread>
 
 namespace sinew {
 
 namespace {
 
-// Until the other thread has finished a task (release there, acquire here). It yields after
-// a while: on a loaded machine the other thread may be descheduled.
+// Until the other thread has finished a task (release there, acquire here): a pause per
+// spin, then yields, as on a loaded machine the other thread may be descheduled.
 void wait_until_done(const std::atomic<int>& flag) {
-  for (int spins = 0; !flag.load(std::memory_order_acquire); ++spins)
-    if (spins >= 64) std::this_thread::yield();
+  for (int spins = 0; !flag.load(std::memory_order_acquire);) {
+    if (spins < 64) {
+      ++spins;
+#if defined(__x86_64__) || defined(__i386__)
+      __builtin_ia32_pause();
+#endif
+    } else {
+      std::this_thread::yield();
+    }
+  }
 }
 
 }  // namespace
@@ -24,7 +33,9 @@ void WideSupernodePasses::reserve(int columns) {
 }
 
 WideSupernodePasses::Progress& WideSupernodePasses::reset(int tasks) {
+  assert(m_progress && static_cast<int>(m_progress->done.size()) >= tasks);  // reserve() first
   Progress& progress = *m_progress;
+  progress.threads.store(0, std::memory_order_relaxed);
   for (int t = 0; t < tasks; ++t) progress.done[t].store(0, std::memory_order_relaxed);
   progress.next_task.store(0, std::memory_order_relaxed);
   return progress;
@@ -46,7 +57,8 @@ void WideSupernodePasses::forward(const BasicSupernodeView<Real>& s, double* y, 
   Progress& progress = reset(3 * blocks);
   const auto done = [&](int J, int kind) -> const std::atomic<int>& { return progress.done[3 * J + kind]; };
   const auto work = [&] {
-    for (int task; (task = progress.next_task.fetch_add(1, std::memory_order_relaxed)) < 3 * blocks;) {
+    bool ran = false;
+    for (int task; (task = progress.next_task.fetch_add(1, std::memory_order_relaxed)) < 3 * blocks; ran = true) {
       const int J = task / 3, kind = task % 3, b0 = J * kTreeBlock, b1 = block_end(J);
       if (kind == 0) {  // block J's triangle, once its rows took every column before it
         if (J > 0) {
@@ -62,6 +74,7 @@ void WideSupernodePasses::forward(const BasicSupernodeView<Real>& s, double* y, 
       }
       progress.done[task].store(1, std::memory_order_release);
     }
+    if (ran) progress.threads.fetch_add(1, std::memory_order_relaxed);
   };
   tbb::parallel_invoke(work, work);
   for (int i = 0; i < below; ++i) y[s.rows[columns + i]] = gather[i];
@@ -77,7 +90,8 @@ void WideSupernodePasses::backward(const BasicSupernodeView<Real>& s, double* y,
   // Tasks from the last block back: its two halves of columns, then its triangle.
   const auto done = [&](int J, int kind) -> const std::atomic<int>& { return progress.done[3 * (blocks - 1 - J) + kind]; };
   const auto work = [&] {
-    for (int task; (task = progress.next_task.fetch_add(1, std::memory_order_relaxed)) < 3 * blocks;) {
+    bool ran = false;
+    for (int task; (task = progress.next_task.fetch_add(1, std::memory_order_relaxed)) < 3 * blocks; ran = true) {
       const int J = blocks - 1 - task / 3, kind = task % 3, b0 = J * kTreeBlock, b1 = block_end(J);
       if (kind < 2) {  // half of block J's columns: dot products with the rows below and after the block
         const int split = b0 + (b1 - b0) / 8 * 4, c0 = kind == 0 ? b0 : split, c1 = kind == 0 ? split : b1;
@@ -92,6 +106,7 @@ void WideSupernodePasses::backward(const BasicSupernodeView<Real>& s, double* y,
       }
       progress.done[task].store(1, std::memory_order_release);
     }
+    if (ran) progress.threads.fetch_add(1, std::memory_order_relaxed);
   };
   tbb::parallel_invoke(work, work);
 }

@@ -35,11 +35,14 @@ class WideSupernodePasses {
   void forward(const BasicSupernodeView<Real>& s, double* y, double* gather);
   template <class Real>
   void backward(const BasicSupernodeView<Real>& s, double* y, double* gather);
+  // How many threads ran tasks in the last pass (tests: whether the two threads overlapped).
+  int last_pass_threads() const { return m_progress ? m_progress->threads.load(std::memory_order_relaxed) : 0; }
 
  private:
   struct Progress {  // on the heap: the solver that holds this is moved
     explicit Progress(int tasks) : done(tasks) {}
     std::atomic<int> next_task{0};
+    std::atomic<int> threads{0};  // that ran at least one task of the last pass
     std::vector<std::atomic<int>> done;  // per task: 1 once done
   };
   Progress& reset(int tasks);

@@ -148,6 +148,7 @@ TEST_CASE("supernodal tree solve: the AVX2 and baseline kernels give the same bi
     SupernodalTreeSolve tree;
     tree.analyse(factor.L());
     REQUIRE(tree.usable());
+    REQUIRE(WideSupernodePasses::worth_two_threads(tree.widest_top_columns()));  // its root too
     VecX x(b.size());
     tree.solve(factor.L(), b.data(), x.data());
     return x;
