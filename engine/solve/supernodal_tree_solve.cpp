@@ -139,15 +139,9 @@ void SupernodalTreeSolve::solve_with(const cholmod_factor& L, const Real* values
   };
   tbb::parallel_invoke([&] { bin_forward(0); }, [&] { bin_forward(1); });
   for (const int k : m_top_rows) y[k] = (y[k] + m_bin_y[0][k]) + m_bin_y[1][k];
-  // The top on this thread, its wide supernodes (the root) on both (wide_supernode_passes.hpp).
-  for (const int s : m_top) {
-    if (const auto sn = view(s); WideSupernodePasses::worth_two_threads(sn.columns)) m_wide.forward(sn, y, m_gather[0].data());
-    else tree_forward(sn, y, m_gather[0].data());
-  }
-  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) {
-    if (const auto sn = view(*s); WideSupernodePasses::worth_two_threads(sn.columns)) m_wide.backward(sn, y, m_gather[0].data());
-    else tree_backward(sn, y, m_gather[0].data());
-  }
+  // The top: its wide supernodes (the root) on both threads, the others on this one.
+  for (const int s : m_top) m_wide.forward(view(s), y, m_gather[0].data());
+  for (auto s = m_top.rbegin(); s != m_top.rend(); ++s) m_wide.backward(view(*s), y, m_gather[0].data());
   const auto bin_backward = [&](int bin) {
     const auto& ranges = m_bins[bin];
     for (auto range = ranges.rbegin(); range != ranges.rend(); ++range)

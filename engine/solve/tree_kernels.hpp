@@ -1,7 +1,7 @@
 #pragma once
 // One supernode's passes of a single-column solve on a supernodal LL^T factor
 // (supernodal_tree_solve.cpp), in a fixed order of operations, on the baseline build and in
-// AVX2 with the same bits (no fused multiply-add; use_avx2() picks, tree_forward below):
+// AVX2 with the same bits (no fused multiply-add; use_avx2() picks, in the dispatchers below):
 //   forward, L y = b: y_k /= L_kk, then the triangle's rows below k and the supernode's rows
 //     below the triangle (through `gather`) take -L_rk y_k, column after column;
 //   backward, L^T z = y: y_k -= the dot product of column k below the triangle with those

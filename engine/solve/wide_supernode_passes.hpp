@@ -30,7 +30,8 @@ class WideSupernodePasses {
   static bool worth_two_threads(int columns) { return backward_in_blocks(columns); }
   // Sizes the tasks' flags for supernodes of up to `columns` columns (no allocation after).
   void reserve(int columns);
-  // tree_forward / tree_backward on up to two threads (the same y, gather and result).
+  // tree_forward / tree_backward on up to two threads (the same y, gather and result); a
+  // supernode not worth two threads runs them on this one.
   template <class Real>
   void forward(const BasicSupernodeView<Real>& s, double* y, double* gather);
   template <class Real>
@@ -45,7 +46,9 @@ class WideSupernodePasses {
     std::atomic<int> threads{0};  // that ran at least one task of the last pass
     std::vector<std::atomic<int>> done;  // per task: 1 once done
   };
-  Progress& reset(int tasks);
+  // Tasks 0..tasks-1 by both threads, claimed in order; each marked done after run(task).
+  template <class Task>
+  void run_in_claim_order(int tasks, Task run);
   std::unique_ptr<Progress> m_progress;
 };
 
