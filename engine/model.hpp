@@ -97,6 +97,9 @@ struct Model {
   std::vector<int> element_body;
   std::vector<int> element_reference;          // into references (hex8) or tet_references (tet4)
   bool has_hyperelastic = false;               // some body is solved by Newton (solve_newton)
+  // Hyperelastic elements' forces at unit strain, sqrt(sum_e ((2 mu_L + lambda_L) V_e^(2/3))^2)
+  // (N): the scale of Newton's residual for a body with no load, momentum or stress.
+  double hyperelastic_unit_strain_forces = 0;
   bool has_strain_limits = false;
   std::vector<Mat3> element_strain_frame;      // per element: the strain limits' material axes
   std::vector<double> element_Umax;            // energy limit, 0 when the element has none

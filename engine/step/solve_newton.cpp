@@ -61,6 +61,12 @@ constexpr double kTrustedResidual = 0.1;
 // against Newton's tolerance of 1e-6.
 constexpr double kModelGradientReuseLimit = 1e-3;
 
+// The smallest scale of Newton's residual: the elements' forces at this strain. With
+// newton_tolerance 1e-6, Newton stops at the forces of a strain of 1e-12, far below anything
+// visible and ~1000 x the gradient's round-off (the SNH finger at rest: 1e-14 N s, the forces
+// of a strain of 6e-16).
+constexpr double kRestStrainScale = 1e-6;
+
 }  // namespace
 
 // Backward Euler for hyperelastic bodies as the minimisation of the incremental potential
@@ -323,11 +329,15 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // h sqrt(sum_e |dPsi_e/dx|^2). A body at rest under stress (held, driven, loaded) has a
     // tiny net gradient but large element forces, whose round-off (~eps of them) bounds
     // how small the assembled gradient can get: measured against the net gradient alone
-    // the tolerance could be unreachable.
+    // the tolerance could be unreachable. And at least the forces a strain of
+    // kRestStrainScale would make: a body at rest with no load, momentum or stress (zero
+    // gravity) has all three at round-off, its gradient too, and Newton ran to its cap
+    // every step (20 iterations, 0.4-3 x the "scale": the SNH finger without its load).
     if (first_norm < 0) {
       double element_forces = 0;
       for (double f2 : force2) element_forces += f2;  // fixed order
-      first_norm = std::max({norm, b0.norm(), model.h * std::sqrt(element_forces)});
+      first_norm = std::max({norm, b0.norm(), model.h * std::sqrt(element_forces),
+                             kRestStrainScale * model.h * model.hyperelastic_unit_strain_forces});
     }
     // Converged: the factorisation of the last iterate's Hessian stays (one is made if the
     // start was already converged, for solve_constraints).
