@@ -38,6 +38,9 @@ namespace {
 struct Samples {
   std::vector<double> step_ms, newton, linear, assemble, factorize, solve, constraints, preconditioned, fallbacks,
       factorizations, hessians_formed;
+  // 1 where the step's Newton ended above its tolerance (at its cap): with one iteration
+  // nearly every step, in the converged mode the steps that did not converge.
+  std::vector<double> above_tolerance;
   bool finite = true;
 
   // Another run's samples after these (a repeat pools every run's steps).
@@ -46,7 +49,7 @@ struct Samples {
                             {&assemble, &o.assemble}, {&factorize, &o.factorize}, {&solve, &o.solve},
                             {&constraints, &o.constraints}, {&preconditioned, &o.preconditioned},
                             {&fallbacks, &o.fallbacks}, {&factorizations, &o.factorizations},
-                            {&hessians_formed, &o.hessians_formed}})
+                            {&hessians_formed, &o.hessians_formed}, {&above_tolerance, &o.above_tolerance}})
       to->insert(to->end(), from->begin(), from->end());
     finite = finite && o.finite;
   }
@@ -73,6 +76,8 @@ Samples run(const SceneDesc& scene, int warmup, int steps) {
     s.factorizations.push_back(static_cast<double>(p.work.factorizations));
     // Tets whose projected Hessian was formed afresh (the others kept one: hessian_reuse_tolerance).
     s.hessians_formed.push_back(count("newton_hessians_formed"));
+    const auto residual = p.violation.find("newton_residual");
+    s.above_tolerance.push_back(residual != p.violation.end() && residual->second > scene.solver.newton_tolerance);
     s.assemble.push_back(ms(Stage::Assemble));
     s.factorize.push_back(ms(Stage::Factorize));
     s.solve.push_back(ms(Stage::Solve));
@@ -174,13 +179,14 @@ int main(int argc, char** argv) {
           std::printf("%-8s %-22s threads %d: step median %8.2f ms (mean %.2f, p95 %.2f, max %.2f; assemble %.2f, factorize %.2f, solve+line search "
                       "%.2f, contact %.2f); Newton iterations median %.0f max %.0f; linear %.0f per step; factorisations "
                       "%.2f, preconditioned CG iterations %.2f (converged solves), CG fallbacks %.2f and tet Hessians formed "
-                      "%.0f per step (means)%s\n",
+                      "%.0f per step (means); %.0f of %zu steps ended above the Newton tolerance%s\n",
                       mesh.name.c_str(), mode, threads, median(s.step_ms), mean(s.step_ms), s.step_ms.empty() ? 0.0 : quantile(s.step_ms, 0.95),
                       s.step_ms.empty() ? 0.0 : *std::max_element(s.step_ms.begin(), s.step_ms.end()),
                       median(s.assemble), median(s.factorize),
                       median(s.solve), median(s.constraints), median(s.newton),
                       s.newton.empty() ? 0.0 : *std::max_element(s.newton.begin(), s.newton.end()), median(s.linear),
                       mean(s.factorizations), mean(s.preconditioned), mean(s.fallbacks), mean(s.hessians_formed),
+                      mean(s.above_tolerance) * static_cast<double>(s.above_tolerance.size()), s.above_tolerance.size(),
                       s.finite ? "" : "  (stopped: non-finite)");
           if (repeat > 1) {
             std::printf("  median step of each of %d runs:", repeat);
@@ -202,6 +208,8 @@ int main(int argc, char** argv) {
                                      {"preconditioned_cg_mean", mean(s.preconditioned)},
                                      {"preconditioned_cg_fallbacks_mean", mean(s.fallbacks)},
                                      {"hessians_formed_mean", mean(s.hessians_formed)},
+                                     {"steps_above_newton_tolerance",
+                                      mean(s.above_tolerance) * static_cast<double>(s.above_tolerance.size())},
                                      {"timed_steps", s.step_ms.size()}, {"repeats", repeat},
                                      {"step_ms_median_per_run", run_medians},
                                      {"step_ms_median_of_runs", median(run_medians)}});
