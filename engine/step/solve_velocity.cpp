@@ -16,12 +16,6 @@ bool factorize_recording(LinearSolver& solver, State& state, const SparseMatrix&
   return true;
 }
 
-// Whether the settled curvature adds anything to A.
-bool has_curvature(const State& state) {
-  return !state.curvature_blocks.empty() ||
-         std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
-}
-
 // Whether H^-1 kept on the touched nodes (solver.delassus_reuse) may serve one more
 // factorisation: it is counted from the step that first filled it, and is dropped once it
 // holds more than twice the nodes of that first fill (contacts that slide or roll onto new
@@ -58,6 +52,12 @@ bool factorisation_still_current(const Model& model, const LinearSolver& solver,
 }
 
 }  // namespace
+
+// Whether the settled curvature adds anything to A.
+bool has_curvature(const State& state) {
+  return !state.curvature_blocks.empty() ||
+         std::any_of(state.curvature.begin(), state.curvature.end(), [](double c) { return c != 0; });
+}
 
 void keep_factorisation_as_current(const Model& model, State& state, const char* reason) {
   // With what was solved with it: H^-1's columns on the touched nodes and the rows' columns

@@ -52,6 +52,8 @@ bool factorize_step_system(const Model& model, LinearSolver& solver, State& stat
 // state.curvature and curvature_blocks from the rows solve_constraints left pending
 // (state.curvature_pending); a no-op when none are. factorize_step_system calls it first.
 void settle_curvature(const Model& model, State& state);
+// Whether the settled curvature adds anything to A.
+bool has_curvature(const State& state);
 // How the step's solves use the factorisation the solver holds (solver.stale_factor_precision):
 // exactly when it is this step's A (factor_exact), a reused one of the same A (no rotation
 // moved: factor_unmoved; its single-precision round-off would strain a body at rest, turn

@@ -37,12 +37,13 @@ namespace {
 
 // Paper 001's fig. 2 cantilever (1 x 0.2 x 0.2 m, tets, E 5 kPa) in Stable Neo-Hookean, with
 // isotropic strain limits 0.96-1.04 or none. Mass damping instead of the scene's stiffness
-// damping (corotational only). 50 SQP iterations: the limits carry the beam's weight, and on
-// the Newton path the SQP converges more slowly than on the corotational one (at the default
-// 20, 50 of 60 steps end at the cap, 1.6e-3 past the limits: docs/ARCHITECTURE.md, "Open").
+// damping (corotational only). The limits carry the beam's weight: before the QPs' matrix
+// carried the last step's curvature (solve_newton.cpp, its end), 50 of these 60 steps ended
+// at the SQP cap, 1.6e-3 past the limits (docs/ARCHITECTURE.md, "Strain limits on
+// hyperelastic bodies").
 World snh_cantilever(bool limited) {
   const std::string limits = limited ? R"(, "strain_limit": {"mode": "isotropic", "smin": 0.96, "smax": 1.04})" : "";
-  const std::string text = R"({"solver": {"sqp_max_iterations": 50, "pgs_max_iterations": 50, "pgs_subspace_interval": 0},
+  const std::string text = R"({"solver": {"sqp_max_iterations": 20, "pgs_max_iterations": 50, "pgs_subspace_interval": 0},
     "bodies": [{"name": "beam", "shape": [{"type": "box", "half_extents": [0.5, 0.1, 0.1]}], "cell_size": 0.1,
       "elements": "tet", "material": {"model": "stable_neo_hookean", "E": 5000, "nu": 0.3, "rho": 1000},
       "damping": {"mass": 1}, "fixed": [{"half_space": {"point": [-0.49, 0, 0], "normal": [1, 0, 0]}}])" +
@@ -67,15 +68,21 @@ TEST_CASE("solve_newton + strain limits: a Stable Neo-Hookean beam keeps its iso
   World limited = snh_cantilever(true), free = snh_cantilever(false);
   const double tolerance = limited.model().solver.strain_tolerance;
   double worst = 0, free_stretch = 0;
+  int capped = 0, curved = 0;
   for (int s = 0; s < 60; ++s) {  // 1 s: the beam swings down and starts to settle
     CAPTURE(s);
     REQUIRE(limited.step());
     REQUIRE(free.step());
     worst = std::max(worst, worst_strain_limit_violation(limited.model(), limited.state().x));
     free_stretch = std::max(free_stretch, largest_stretch(free));
+    const auto& its = limited.profile().iterations;
+    capped += its.count("sqp") && its.at("sqp") >= limited.model().solver.sqp_max_iterations;
+    curved += its.count("newton_curved_factorisations") ? its.at("newton_curved_factorisations") : 0;
   }
   MESSAGE("worst strain-limit violation " << worst << " (tolerance " << tolerance << "); largest stretch: limited "
-                                          << largest_stretch(limited) << ", free " << free_stretch);
+                                          << largest_stretch(limited) << ", free " << free_stretch << "; steps at the SQP cap "
+                                          << capped << "; QPs started on H + curvature " << curved);
+  CHECK(curved > 0);  // the path under test ran
   CHECK(worst <= tolerance);
   CHECK(largest_stretch(limited) <= 1.04 + tolerance);
   CHECK(free_stretch > 1.04 + tolerance);  // the limits bind: without them the beam stretches past them
