@@ -746,7 +746,16 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // the bunny_5 drop's 65 frames 3 -> 1 refactorisations, 192 -> 118 QPs).
   constexpr double kSteadyImpulse = 0.1;
   const bool had_impulse = s.has_constraint_impulse;
-  s.has_constraint_impulse = impulse_valid && model.has_hyperelastic && !sc.impulse.isZero(0);
+  // Not after a QP with energy or strain rows: their J^T lambda, a fixed force in Newton's
+  // objective, no longer balances once the elements turn and stretch under it, and the
+  // side-pressed SNH finger (paper 001, fig. 3) went from steps predicted at the steady 200 N
+  // press to 12 Newton iterations, ~3,900 strain rows and the SQP cap (0.02-0.24 past its
+  // limits, 1.5 mm into the table, 19-34 steps retried); without: within 1e-3 and 2.2e-5 m,
+  // none capped or retried. The contacts' part alone, predicted without the limits' that
+  // held the body against it, was worse (the flat-pressed finger 0.43 past its limits).
+  const RowTable& last_qp = s.curvature_rows;  // the last QP's rows (swapped in above)
+  const bool limit_rows = last_qp.count(RowKind::Energy) + last_qp.count(RowKind::Strain) > 0;
+  s.has_constraint_impulse = impulse_valid && model.has_hyperelastic && !sc.impulse.isZero(0) && !limit_rows;
   s.constraint_impulse_steady = false;
   if (s.has_constraint_impulse) {
     double change2 = 0, size2 = 0;
