@@ -204,8 +204,11 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // Newton steps were wrong and every step ran to the iteration cap once energy rows had
   // been active (found by tools/stress). Its rows stay in state.curvature_rows: the
   // constraint stage's matrix gets their curvature back (the end of this function).
+  // (Only with refactor_interval 1: with a longer one the curved factorisation would go on
+  // preconditioning the next steps' Newton CG, and a resting body's unchanged H would never
+  // match the factorised matrix again.)
   const bool rows_with_curvature =
-      state.curvature_pending &&
+      cfg.refactor_interval == 1 && state.curvature_pending &&
       state.curvature_rows.count(RowKind::Energy) + state.curvature_rows.count(RowKind::Strain) > 0;
   state.curvature.clear();
   state.curvature_blocks.clear();
@@ -272,6 +275,32 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     return factorised;
   };
   // with_hessian false: energies and gradient only (state.system keeps the factorised Hessian).
+  // The constraint stage's QPs on H plus the curvature of the last step's limit rows, as the
+  // linear path's do (its factorisation carries it from step to step, solve_velocity.cpp): on
+  // H alone they started every step without it and got it only by refactorising once they
+  // stalled, and an SNH body whose strain limits carry its weight (paper 001's fig. 2 beam in
+  // SNH) ended 50 of 60 steps at the SQP cap (docs/ARCHITECTURE.md, "Strain limits on
+  // hyperelastic bodies"). H is the matrix Newton factorised last (state.system), or, when
+  // Newton converged at its start, the assembled one. Rows without a multiplier give no
+  // curvature: then H alone, as factorize() would. v* stays Newton's minimiser of Phi
+  // (factor_exact stays true: ending the step at v* when it meets every row is still right).
+  int curved_factorisations = 0;
+  auto factorize_with_curvature = [&]() {
+    StageTimer timer(state.profile, Stage::Factorize);
+    state.curvature_pending = true;
+    settle_curvature(model, state);
+    if (!has_curvature(state)) return factorize(false);
+    if (!hessian_in_system) state.system.swap(H);
+    hessian_in_system = true;
+    state.profile.skipped[static_cast<int>(Stage::Factorize)].clear();
+    const bool made = factorize_step_system(model, solver, state);
+    if (made) {
+      factorised = true;
+      preconditioning = false;
+      ++curved_factorisations;
+    }
+    return made;
+  };
   long hessians_formed = 0;  // kept Hessians: tets that formed theirs afresh (stats)
   auto assemble = [&](bool with_hessian = true) {
     positions_at(model, t_end, x0, v, x);
@@ -346,7 +375,9 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
     // start was already converged, for solve_constraints).
     state.profile.violation["newton_residual"] = first_norm > 0 ? norm / first_norm : 0.0;
     if (norm <= cfg.newton_tolerance * first_norm || norm == 0 || newton == newton_cap) {
-      if (!factorised) ok = factorize();
+      // Not factorised yet (converged at the start): with limit rows from the last step, the
+      // one factorisation made is H plus their curvature (below), not H and then that.
+      if (!factorised) ok = rows_with_curvature ? factorize_with_curvature() : factorize();
       if (!ok && exact) {  // the exact Hessian at the result is not SPD: leave a projected one
         exact = false;
         assemble();
@@ -489,23 +520,18 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
         state.v.segment<3>(3 * n) =
             (driven.position(model.rest_x.segment<3>(3 * n), t_end) - x0.segment<3>(3 * n)) / model.h;
   }
-  // The constraint stage's QPs on H plus the curvature of the last step's limit rows, as the
-  // linear path's do (its factorisation carries it from step to step, solve_velocity.cpp):
-  // on H alone they start every step without it and get it only by refactorising once they
-  // stall, and an SNH body whose strain limits carry its weight (paper 001's fig. 2 beam in
-  // SNH) ended 50 of 60 steps at the SQP cap (docs/ARCHITECTURE.md, "Open: strain limits on
-  // hyperelastic bodies"). Not after a step without limit rows (contacts carry none), nor
-  // when Newton kept an earlier step's factorisation (refactor_interval > 1: the QPs then
-  // start from that one, as before).
-  int curved_factorisations = 0;
-  if (ok && rows_with_curvature && !preconditioning) {
-    state.curvature_pending = true;
+  // Newton factorised H for its own iterations: the QPs' factorisation of that H (not a newer
+  // assembly) plus the curvature, one more this step. If even H alone no longer factorises
+  // (it did a moment ago), the step fails as Newton's would.
+  if (ok && rows_with_curvature && curved_factorisations == 0 && !preconditioning) {
     StageTimer timer(state.profile, Stage::Factorize);
+    state.curvature_pending = true;
     settle_curvature(model, state);
     if (has_curvature(state)) {
-      if (!hessian_in_system) state.system.swap(H);
+      state.profile.skipped[static_cast<int>(Stage::Factorize)].clear();
       ok = factorize_step_system(model, solver, state);
       curved_factorisations += ok;
+      if (!ok) state.system = A0;  // the matrix (its pattern) for the caller's retry
     }
   }
   // On every Newton step of a scene with limits, 0 included (profile_map.hpp).

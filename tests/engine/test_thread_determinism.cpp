@@ -65,6 +65,15 @@ TEST_CASE("thread determinism: strain-limited beam (tet, strain rows, SQP curvat
   check_same_for_1_and_2_threads(shipped("paper001_beam_5kPa_isotropic"), 40, false);
 }
 
+TEST_CASE("thread determinism: side-pressed Stable Neo-Hookean finger (Newton, strain rows, curvature, contact)") {
+  // The QPs start on Newton's H plus the last step's strain-row curvature (solve_newton.cpp).
+  SceneDesc scene = shipped("paper001_finger_side_anisotropic");
+  scene.bodies[0].material.model = "stable_neo_hookean";
+  scene.bodies[0].damping_mass = 2;
+  scene.bodies[0].damping_stiffness = 0;
+  check_same_for_1_and_2_threads(scene, 30, true);
+}
+
 TEST_CASE("thread determinism: Stable Neo-Hookean elbow (Newton, driven nodes)") {
   SceneDesc scene = shipped("paper003_elbow_snh");
   // No constraint rows in this scene: checked by the Newton iterations instead.

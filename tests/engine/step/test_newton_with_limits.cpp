@@ -117,4 +117,5 @@ TEST_CASE("solve_newton + strain limits + contact: the side-pressed Stable Neo-H
                                     << retried);
   CHECK(worst_strain <= solver.strain_tolerance);
   CHECK(worst_penetration <= solver.contact_tolerance);
+  CHECK(retried == 0);  // no step failed and was redone (World::step's retries)
 }
