@@ -325,7 +325,6 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
   for (int n = 0; n < model.num_nodes; ++n) model.rest_x.segment<3>(3 * n) = rest[n];
   for (int& f : model.free_index)
     if (f >= 0) f = model.num_free++;
-  double unit_strain_forces2 = 0;
   for (Body& body : model.bodies) {
     const double stiffness =
         body.hyperelastic ? [&] {
@@ -336,10 +335,10 @@ Model build_model(const SceneDesc& scene, const std::function<void(const std::st
     for (int e = body.element_offset; e < body.element_offset + body.num_elements(); ++e) {
       const double volume = element_rest_volume(model, e);
       body.rest_volume += volume;
-      unit_strain_forces2 += std::pow(stiffness * std::cbrt(volume * volume), 2);
+      body.unit_strain_forces2 += std::pow(stiffness * std::cbrt(volume * volume), 2);
     }
   }
-  model.hyperelastic_unit_strain_forces = std::sqrt(unit_strain_forces2);
+  update_unit_strain_forces(model);
   std::vector<std::pair<int, int>> body_elements;
   for (const Body& body : model.bodies) body_elements.emplace_back(body.element_offset, body.element_offset + body.num_elements());
   model.element_schedule = schedule_elements(model.element_nodes, model.num_nodes, body_elements);

@@ -2,6 +2,7 @@
 // The constant part of a simulation: everything that does not change during a run.
 // Built once from a SceneDesc by build_model(); read by every stage of World::step().
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <memory>
 #include <string>
@@ -41,6 +42,9 @@ struct Body {
   StrainLimitDesc strain_limit;
   std::shared_ptr<const Material> hyperelastic;  // null: linear corotational (warped stiffness)
   double rest_volume = 0;      // sum of the elements' rest volumes (m^3)
+  // Hyperelastic bodies: sum_e ((2 mu_L + lambda_L) V_e^(2/3))^2, the squares of its elements'
+  // forces at unit strain (N^2); 0 for a linear body.
+  double unit_strain_forces2 = 0;
   int num_nodes() const { return static_cast<int>(lattice.nodes.size()); }
   int num_elements() const { return static_cast<int>(lattice.cells.size()); }
 };
@@ -97,8 +101,9 @@ struct Model {
   std::vector<int> element_body;
   std::vector<int> element_reference;          // into references (hex8) or tet_references (tet4)
   bool has_hyperelastic = false;               // some body is solved by Newton (solve_newton)
-  // Hyperelastic elements' forces at unit strain, sqrt(sum_e ((2 mu_L + lambda_L) V_e^(2/3))^2)
-  // (N): the scale of Newton's residual for a body with no load, momentum or stress.
+  // The awake hyperelastic bodies' elements' forces at unit strain: the square root of the sum
+  // of their Body::unit_strain_forces2 (N), the scale of Newton's residual for a body with no
+  // load, momentum or stress (update_unit_strain_forces).
   double hyperelastic_unit_strain_forces = 0;
   bool has_strain_limits = false;
   std::vector<Mat3> element_strain_frame;      // per element: the strain limits' material axes
@@ -130,5 +135,15 @@ struct Model {
 // Throws InputError (naming the scene file and JSON path) on empty lattices or bad meshes;
 // warnings (open mesh) go to `warn`.
 Model build_model(const SceneDesc& scene, const std::function<void(const std::string&)>& warn);
+
+// Model::hyperelastic_unit_strain_forces over the bodies that have a hyperelastic energy (a
+// sleeper's is taken away by freeze_sleeping_bodies, so a large stiff body asleep does not
+// raise the floor of a small one awake).
+inline void update_unit_strain_forces(Model& model) {
+  double sum = 0;
+  for (const Body& body : model.bodies)
+    if (body.hyperelastic) sum += body.unit_strain_forces2;
+  model.hyperelastic_unit_strain_forces = std::sqrt(sum);
+}
 
 }  // namespace sinew

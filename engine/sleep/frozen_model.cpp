@@ -31,6 +31,7 @@ Model freeze_sleeping_bodies(const Model& model, const std::vector<char>& asleep
     frozen.has_hyperelastic = frozen.has_hyperelastic || body.hyperelastic;
     frozen.has_strain_limits = frozen.has_strain_limits || body.strain_limit.enabled;
   }
+  update_unit_strain_forces(frozen);  // Newton's residual floor: awake bodies only
   // Driven nodes of a sleeper are not moving (else it would not sleep): not placed again.
   std::erase_if(frozen.driven, [&](const DrivenNodes& d) { return !d.nodes.empty() && asleep[model.node_body[d.nodes.front()]]; });
   frozen.pattern = build_system_pattern(frozen.element_nodes, frozen.free_index, frozen.num_free);
