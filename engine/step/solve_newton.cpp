@@ -285,19 +285,28 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // curvature: then H alone, as factorize() would. v* stays Newton's minimiser of Phi
   // (factor_exact stays true: ending the step at v* when it meets every row is still right).
   int curved_factorisations = 0;
-  auto factorize_with_curvature = [&]() {
-    StageTimer timer(state.profile, Stage::Factorize);
+  // The last step's limit rows back as pending, their curvature settled: whether it is nonzero.
+  auto settle_limit_curvature = [&] {
     state.curvature_pending = true;
     settle_curvature(model, state);
-    if (!has_curvature(state)) return factorize(false);
-    if (!hessian_in_system) state.system.swap(H);
-    hessian_in_system = true;
+    return has_curvature(state);
+  };
+  // state.system plus the settled curvature (factorize_step_system adds it).
+  auto factorize_curved = [&] {
     state.profile.skipped[static_cast<int>(Stage::Factorize)].clear();
     const bool made = factorize_step_system(model, solver, state);
+    curved_factorisations += made;
+    return made;
+  };
+  auto factorize_with_curvature = [&]() {
+    StageTimer timer(state.profile, Stage::Factorize);
+    if (!settle_limit_curvature()) return factorize(false);
+    if (!hessian_in_system) state.system.swap(H);
+    hessian_in_system = true;
+    const bool made = factorize_curved();
     if (made) {
       factorised = true;
       preconditioning = false;
-      ++curved_factorisations;
     }
     return made;
   };
@@ -525,14 +534,7 @@ bool solve_newton(const Model& model, LinearSolver& solver, State& state) {
   // (it did a moment ago), the step fails as Newton's would.
   if (ok && rows_with_curvature && curved_factorisations == 0 && !preconditioning) {
     StageTimer timer(state.profile, Stage::Factorize);
-    state.curvature_pending = true;
-    settle_curvature(model, state);
-    if (has_curvature(state)) {
-      state.profile.skipped[static_cast<int>(Stage::Factorize)].clear();
-      ok = factorize_step_system(model, solver, state);
-      curved_factorisations += ok;
-      if (!ok) state.system = A0;  // the matrix (its pattern) for the caller's retry
-    }
+    if (settle_limit_curvature() && !(ok = factorize_curved())) state.system = A0;  // for the caller's retry
   }
   // On every Newton step of a scene with limits, 0 included (profile_map.hpp).
   const bool has_limits = model.has_strain_limits || std::any_of(model.bodies.begin(), model.bodies.end(), [](const Body& b) {
