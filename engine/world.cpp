@@ -293,6 +293,7 @@ bool World::attempt_step() {
   } else {
     s.t += m_model.h;
     ++s.step_count;
+    s.last_step_within_limits = s.step_limit_violation <= 1;
   }
   {
     StageTimer timer(s.profile, Stage::Surface);

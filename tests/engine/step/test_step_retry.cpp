@@ -90,12 +90,15 @@ struct HitRun {
   double worst_violation = 0, fastest = 0;  // over the steps after it
 };
 
-HitRun hit_column(double divergence_limit) {
+// `extend_cap`: whether the hit step's SQP may go past its cap (solve_constraints.cpp: a step
+// that started within its limits may, once); without, its plain cap, as before that rule.
+HitRun hit_column(double divergence_limit, bool extend_cap) {
   SceneDesc scene = load_scene(std::string(SINEW_SOURCE_DIR) + "/assets/scenes/paper001_vertical_hyperbolic.json");
   scene.solver.divergence_violation_limit = divergence_limit;
   World w = make_world(scene);
   for (int i = 0; i < 5; ++i) REQUIRE(w.step());
   stress::perturbed::hit(w, 1022);
+  if (!extend_cap) w.mutable_state().last_step_within_limits = false;
   HitRun run;
   for (int i = 0; i < 15 && w.step(); ++i) {
     ++run.held;
@@ -118,8 +121,9 @@ TEST_CASE("step retry: a step that ends far past a tolerance is retried, and the
   // 3,218), so that the test does not hang on where the default falls among them.
   constexpr double kLimit = 400;
   // Without the divergence test the SQP's capped steps were taken as they ended: the column
-  // ran away, nodes at km/s.
-  const HitRun taken = hit_column(1e300);
+  // ran away, nodes at km/s. (The hit step's SQP at its plain cap: with one extension of the
+  // cap it ends far nearer its limits and no retry is needed, the last case below.)
+  const HitRun taken = hit_column(1e300, false);
   MESSAGE("taken: hit step " << taken.first_violation << " tolerances past, then up to " << taken.worst_violation
                              << ", fastest " << taken.fastest << " m/s");
   CHECK(taken.first_violation < kLimit);
@@ -128,11 +132,27 @@ TEST_CASE("step retry: a step that ends far past a tolerance is retried, and the
   // With it, every step holds; a step past the limit is retried (afresh: no warm start or
   // curvature from before the hit), and from the step after the hit's the column is within
   // its tolerances, no node faster than twice the largest kick.
-  const HitRun guarded = hit_column(kLimit);
+  const HitRun guarded = hit_column(kLimit, false);
   MESSAGE("guarded: hit step " << guarded.first_violation << ", then up to " << guarded.worst_violation << "; retries "
                                << guarded.retries << "; fastest " << guarded.fastest << " m/s");
   CHECK(guarded.held == 15);
   CHECK(guarded.retries >= 1);
   CHECK(guarded.worst_violation <= 1);
   CHECK(guarded.fastest < 2 * stress::perturbed::kKick * std::sqrt(3.0));
+}
+
+TEST_CASE("step retry: the hit column's SQP, allowed past its cap once, recovers with no retry") {
+  // The hit step started within the column's limits and ends its 10 QPs outside them: the
+  // SQP goes on for 10 more (solve_constraints.cpp), and the column is within its tolerances
+  // from the next step on without the divergence test's retry.
+  const HitRun plain = hit_column(1e300, false);
+  const HitRun extended = hit_column(1e300, true);
+  MESSAGE("hit step: plain cap " << plain.first_violation << " tolerances past, extended " << extended.first_violation
+                                 << "; then up to " << extended.worst_violation << ", retries " << extended.retries
+                                 << ", fastest " << extended.fastest << " m/s");
+  CHECK(extended.held == 15);
+  CHECK(extended.retries == 0);
+  CHECK(extended.first_violation < plain.first_violation);
+  CHECK(extended.worst_violation <= 1);
+  CHECK(extended.fastest < 2 * stress::perturbed::kKick * std::sqrt(3.0));
 }
