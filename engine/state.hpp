@@ -140,8 +140,9 @@ struct State {
                                      // after a refused step, its last attempt's
   double step_limit_violation = 0;   // the same without attachment gaps: the divergence test's
   bool last_step_within_limits = true;  // the last accepted step ended within every limit's tolerance
-                                        // (step_limit_violation <= 1; World::attempt_step): the SQP
-                                        // may then extend its cap once (solve_constraints)
+                                        // (step_limit_violation <= 1; World::attempt_step, rolled back
+                                        // with a failed step): the SQP may then extend its cap once
+                                        // (solve_constraints); edits between steps do not touch it
   IterationCaps caps;                // lower iteration caps for the next step (set by callers: the
                                      // real-time budget, engine/realtime/); 0 = the scene's
 };

@@ -114,6 +114,7 @@ bool World::step() {
   const long count0 = s.step_count;
   const VecX& x0 = s.scratch.step_x0 = s.x;
   const VecX& v0 = s.scratch.step_v0 = s.v;
+  const bool within0 = s.last_step_within_limits;  // a sub-step accepted before a failed one set it
   int retries = 1;
   bool ok = false;
   int substeps_used = 1;
@@ -130,6 +131,7 @@ bool World::step() {
     }
     ++retries;
     s.x = x0, s.v = v0, s.t = t0, s.step_count = count0;
+    s.last_step_within_limits = within0;
   }
   set_step_size(h);
   s.caps = caps;

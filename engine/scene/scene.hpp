@@ -168,6 +168,10 @@ struct SolverDesc {
   double sqp_position_tolerance = 1e-5;  // m: converged when the last correction moves no node further
   double sqp_stall_tolerance = 4e-5;  // m: also converged, within every row's tolerance, when the
                                      // corrections stop shrinking and moved no node further (0: off)
+  // "once": a step whose previous accepted step ended within every limit's tolerance and that
+  // reaches sqp_max_iterations outside them, with none of its iterates within them, goes on
+  // for as many again, once; "none": the cap is final.
+  std::string sqp_cap_extension = "once";
   // With an earlier step's factorisation and rows without curvature: "conjugate" steps
   // (each QP's step made A-conjugate to the last, taken to the Lagrangian's minimiser along
   // it), or "none" (the QP's step as it is).

@@ -365,7 +365,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   };
   const bool linearise_at_start = !s.warm_start.empty() && strays_beyond_margin(model, s.v_start, v_star);
   int sqp_cap = IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp);
-  const bool may_extend = s.last_step_within_limits && sqp_cap == cfg.sqp_max_iterations;
+  const bool may_extend =
+      cfg.sqp_cap_extension == "once" && s.last_step_within_limits && sqp_cap == cfg.sqp_max_iterations;
   bool extended = false;
   for (int k = 0;; ++k) {
     // Rows at v* serve to stop at once when v* meets them all, which only an exact
@@ -440,14 +441,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       sc.sqp_feasible = v_free;
       least_violation = worst;
     }
-    // A step that started within every limit's tolerance and reaches the cap outside them with
-    // none of its iterates within them goes on for as many iterations again, once: an impact
-    // that one more handful of QPs resolves (paper 001's tip-pressed finger, its load scaled by
-    // 1 + 3e-14, met the tip at step 7 203 tolerances past its limits and came within them at
-    // QP 21-25, where the cap of 20 returned its least violated iterate, 1.02 tolerances past).
-    // Not under a budget's lower cap (its guard redoes such steps), nor where the limits were
-    // already unmet at the step's start (paper 001's orthogonal projection cannot meet them:
-    // every step would double its QPs for nothing).
+    // A step after one that ended within every limit's tolerance, reaching the cap outside them
+    // with none of its iterates within them, goes on for as many iterations again, once: an
+    // impact that one more handful of QPs resolves (paper 001's tip-pressed finger, its load
+    // scaled by 1 + 3e-14, met the tip at step 7 203 tolerances past its limits and came within
+    // them at QP 21-25, where the cap of 20 returned its least violated iterate, 1.02 tolerances
+    // past). Not at a budget's lower cap (a budget trades accuracy; its guard redoes steps left
+    // past budget_violation_limit), nor after a step that ended outside its limits (paper 001's
+    // orthogonal projection cannot meet them: its steps would double their QPs for nothing).
     if (k == sqp_cap && (k > 0 || at_minimiser) && !extended && may_extend && s.step_limit_violation > 1 &&
         !have_feasible) {
       extended = true;
@@ -800,9 +801,10 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // that accepted a stall may keep it: the flat-pressed finger stalls on most steps (rows
   // switching at their limits) and kept 7 instead of 21 of 90 factorisations without it,
   // its median step 3.3-3.8 -> 4.3 ms, at no gain in accuracy (docs/work_precision.md).
-  if (s.factor_age == 0) s.factor_sqp = refactorisations ? -1 : sqp;
+  // An extended step is no yardstick: its factorisation needed more than the cap.
+  if (s.factor_age == 0) s.factor_sqp = refactorisations || extended ? -1 : sqp;
   s.keep_curved_factor =
-      converged && refactorisations == 0 && sqp > 0 && sqp <= s.factor_sqp;
+      converged && refactorisations == 0 && !extended && sqp > 0 && sqp <= s.factor_sqp;
   profile.iterations["pgs"] += pgs;
   if (refactorisations) profile.iterations["sqp_refactorisations"] += refactorisations;
   // Reported whenever PGS ran with subspace steps on, 0 included: a name first met in a

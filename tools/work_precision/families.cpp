@@ -40,6 +40,17 @@ Sweep cap_sweep(const std::string& name, int SolverDesc::*field, std::vector<dou
                     [field](SceneDesc& s, double v) { s.solver.*field = static_cast<int>(v); }, number_label);
 }
 
+// The SQP's cap as it stands: its one extension (solver.sqp_cap_extension) turned off, so that
+// each point costs at most its cap.
+Sweep sqp_cap_sweep(std::vector<double> caps, std::vector<double> quick) {
+  return make_sweep("sqp_max_iterations", std::move(caps), std::move(quick),
+                    [](SceneDesc& s, double v) {
+                      s.solver.sqp_max_iterations = static_cast<int>(v);
+                      s.solver.sqp_cap_extension = "none";
+                    },
+                    number_label);
+}
+
 Sweep pgs_cap_sweep(std::vector<double> caps, std::vector<double> quick) {
   return cap_sweep("pgs_max_iterations", &SolverDesc::pgs_max_iterations, std::move(caps), std::move(quick));
 }
@@ -152,7 +163,7 @@ std::vector<Family> make_families() {
                       {"isotropic", "paper001_beam_5kPa_isotropic.json", {}, true, ""}};
   beam001.sweeps = {time_step_sweep({1, 2, 4}, {1, 2}), pgs_cap_sweep({10, 25, 50, 100, 200}, {25, 200}),
                     sqp_tolerance_sweep("strain_tolerance", &SolverDesc::strain_tolerance, 1e-2, {1e-1, 1e-2, 1e-3, 1e-4}, {1e-2, 1e-3}),
-                    cap_sweep("sqp_max_iterations", &SolverDesc::sqp_max_iterations, {2, 5, 10, 20}, {2, 10}),
+                    sqp_cap_sweep({2, 5, 10, 20}, {2, 10}),
                     cell_size_sweep({1, 2.0 / 3}, {})};
   beam001.steps = 30, beam001.quick_steps = 15, beam001.sample_every = 3;
   beam001.violation_kind = "strain";

@@ -142,9 +142,10 @@ TEST_CASE("step retry: a step that ends far past a tolerance is retried, and the
 }
 
 TEST_CASE("step retry: the hit column's SQP, allowed past its cap once, recovers with no retry") {
-  // The hit step started within the column's limits and ends its 10 QPs outside them: the
-  // SQP goes on for 10 more (solve_constraints.cpp), and the column is within its tolerances
-  // from the next step on without the divergence test's retry.
+  // The step before the hit ended within the column's limits (the rule does not see the hit's
+  // node moves), and the hit step ends its 10 QPs outside them: the SQP goes on for 10 more
+  // (solve_constraints.cpp), and the column is within its tolerances from the next step on
+  // without the divergence test's retry.
   const HitRun plain = hit_column(1e300, false);
   const HitRun extended = hit_column(1e300, true);
   MESSAGE("hit step: plain cap " << plain.first_violation << " tolerances past, extended " << extended.first_violation
