@@ -3,6 +3,7 @@
 #include <array>
 #include <chrono>
 #include <string>
+#include <string_view>
 
 #include "engine/profile_map.hpp"
 
@@ -79,6 +80,13 @@ struct StepProfile {
     step_ms = 0;
     rolled_back_ms = 0;
     finite = true;
+  }
+  // An iteration count or event of the step (0 when not reported).
+  int iteration(std::string_view name) const { return iterations.count(name) ? iterations.at(name) : 0; }
+  // Whether the step's SQP ran to the cap in force: the scene's, or twice it for a step that
+  // extended it (solver.sqp_cap_extension).
+  bool ended_at_sqp_cap(int scene_cap) const {
+    return iteration("sqp") >= scene_cap * (iteration("sqp_extended") ? 2 : 1);
   }
   // Whether stage s did its work (no reason to skip it was given).
   bool ran(Stage s) const { return skipped[static_cast<int>(s)].empty(); }

@@ -41,9 +41,7 @@ Outcome run(double Umax, const std::string& jacobian, int frames) {
       const int sqp = p.iterations.count("sqp") ? p.iterations.at("sqp") : 0;
       o.sqp += sqp;
       o.pgs += p.iterations.count("pgs") ? p.iterations.at("pgs") : 0;
-      // At the cap in force: twice the scene's for a step that extended it (sqp_cap_extension).
-      const bool extended = p.iterations.count("sqp_extended") && p.iterations.at("sqp_extended") > 0;
-      o.capped += sqp >= scene.solver.sqp_max_iterations * (extended ? 2 : 1);
+      o.capped += p.ended_at_sqp_cap(scene.solver.sqp_max_iterations);
       o.worst = std::max(o.worst, p.violation.count("energy") ? p.violation.at("energy") : 0.0);
       const double c = p.constraint_ms();
       o.constraint_ms_total += c;

@@ -441,33 +441,33 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       sc.sqp_feasible = v_free;
       least_violation = worst;
     }
-    // A step after one that ended within every limit's tolerance, reaching the cap outside them
-    // with none of its iterates within them, goes on for as many iterations again, once: an
-    // impact that one more handful of QPs resolves (paper 001's tip-pressed finger, its load
-    // scaled by 1 + 3e-14, met the tip at step 7 203 tolerances past its limits and came within
-    // them at QP 21-25, where the cap of 20 returned its least violated iterate, 1.02 tolerances
-    // past). Not at a budget's lower cap (a budget trades accuracy; its guard redoes steps left
-    // past budget_violation_limit), nor after a step that ended outside its limits (paper 001's
-    // orthogonal projection cannot meet them: its steps would double their QPs for nothing).
-    if (k == sqp_cap && (k > 0 || at_minimiser) && !extended && may_extend && s.step_limit_violation > 1 &&
-        !have_feasible) {
-      extended = true;
-      sqp_cap += cfg.sqp_max_iterations;
-    }
     if (k == sqp_cap && (k > 0 || at_minimiser)) {
-      // The merit weighs small violations lightly (and does not fall at every iteration: a
-      // last half is taken regardless, a non-descent step whole), so the last iterate may be
-      // over a tolerance that an earlier one met (the tip-pressed finger), or, where the
-      // limits cannot all be met (paper 001's orthogonal projection: [1, 1] on two axes),
-      // far more violated than an earlier one: taken, that one ran away within 3 steps
-      // (worst strain violation 0.02 -> 2.1 -> 57 -> 2100, the column 52 m down).
-      if (worst > 1 && (have_feasible || least_violation < worst)) {  // never true for worst = NaN
-        v_free = sc.sqp_feasible;
-        scatter_free(model, v_free, s.v);
-        rows_at_iterate(k);
-        ++restored;
+      // A step after one that ended within every limit's tolerance, reaching the cap outside them
+      // with none of its iterates within them, goes on for as many iterations again, once: an
+      // impact that one more handful of QPs resolves (paper 001's tip-pressed finger, its load
+      // scaled by 1 + 3e-14, met the tip at step 7 203 tolerances past its limits and came within
+      // them at QP 21-25, where the cap of 20 returned its least violated iterate, 1.02 tolerances
+      // past). Not at a budget's lower cap (a budget trades accuracy; its guard redoes steps left
+      // past budget_violation_limit), nor after a step that ended outside its limits (paper 001's
+      // orthogonal projection cannot meet them: its steps would double their QPs for nothing).
+      if (may_extend && !extended && s.step_limit_violation > 1 && !have_feasible) {
+        extended = true;
+        sqp_cap += cfg.sqp_max_iterations;
+      } else {
+        // The merit weighs small violations lightly (and does not fall at every iteration: a
+        // last half is taken regardless, a non-descent step whole), so the last iterate may be
+        // over a tolerance that an earlier one met (the tip-pressed finger), or, where the
+        // limits cannot all be met (paper 001's orthogonal projection: [1, 1] on two axes),
+        // far more violated than an earlier one: taken, that one ran away within 3 steps
+        // (worst strain violation 0.02 -> 2.1 -> 57 -> 2100, the column 52 m down).
+        if (worst > 1 && (have_feasible || least_violation < worst)) {  // never true for worst = NaN
+          v_free = sc.sqp_feasible;
+          scatter_free(model, v_free, s.v);
+          rows_at_iterate(k);
+          ++restored;
+        }
+        break;
       }
-      break;
     }
     if (k == 0 && linearise_at_start && s.factor_exact) {  // v* violates something: as above
       started_at_v0 = true;

@@ -60,10 +60,7 @@ RunResult run_scene(const SceneDesc& scene, int steps, int sample_every) {
     const StepProfile& p = world.profile();
     for (const auto& [kind, value] : p.violation) r.worst_violation[kind] = std::max(r.worst_violation[kind], value);
     for (const auto& [solver, count] : p.iterations) r.iterations[solver] += count;
-    // At the cap in force: the scene's, or twice it for a step that extended it (sqp_cap_extension).
-    const int extended = p.iterations.count("sqp_extended") ? p.iterations.at("sqp_extended") : 0;
-    const int cap = scene.solver.sqp_max_iterations * (extended ? 2 : 1);
-    if (p.iterations.count("sqp") && p.iterations.at("sqp") >= cap) ++r.steps_at_sqp_cap;
+    if (p.ended_at_sqp_cap(scene.solver.sqp_max_iterations)) ++r.steps_at_sqp_cap;
     if (s % sample_every == 0) sample(world, r);
   }
   const VolumeChange volume = volume_change(world);

@@ -14,7 +14,7 @@ namespace {
 
 struct PerturbedRun {
   double worst_violation = 0;  // over the steps, of the strain limits
-  int capped_steps = 0;        // steps whose SQP ended at its iteration cap
+  int capped_steps = 0;        // steps whose SQP ended at its iteration cap (as extended, if it was)
   int stalls_accepted = 0;
   int backtracks = 0;
   double tolerance = 0;
@@ -32,7 +32,7 @@ PerturbedRun run_with_load_scale(const std::string& name, double scale, int fram
     REQUIRE(world.step());
     r.worst_violation = std::max(r.worst_violation, worst_strain_limit_violation(world.model(), world.state().x));
     const auto& it = world.profile().iterations;
-    if (it.count("sqp") && it.at("sqp") >= world.model().solver.sqp_max_iterations) ++r.capped_steps;
+    if (world.profile().ended_at_sqp_cap(world.model().solver.sqp_max_iterations)) ++r.capped_steps;
     if (it.count("sqp_stalls_accepted")) r.stalls_accepted += it.at("sqp_stalls_accepted");
     if (it.count("sqp_backtracks")) r.backtracks += it.at("sqp_backtracks");
   }

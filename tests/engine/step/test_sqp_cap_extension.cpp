@@ -21,8 +21,6 @@ SceneDesc cap_scene(const std::string& name, int sqp_cap, const std::string& ext
   return scene;
 }
 
-int cap_event_count(const StepProfile& p, const char* name) { return p.iterations.count(name) ? p.iterations.at(name) : 0; }
-
 struct CapTally {
   int extended = 0;          // steps that extended their cap
   int extended_within = 0;   // ... and ended within every limit's tolerance
@@ -42,10 +40,10 @@ CapTally run_checking_cap_rule(World& world, int steps, int budget_cap = 0) {
     REQUIRE(world.step());
     const StepProfile& p = world.profile();
     // A retried step's profile is its last attempt's (afresh or a sub-step): not this rule's case.
-    if (cap_event_count(p, "step_retries")) continue;
-    const int sqp = cap_event_count(p, "sqp"), extended = cap_event_count(p, "sqp_extended");
+    if (p.iteration("step_retries")) continue;
+    const int sqp = p.iteration("sqp"), extended = p.iteration("sqp_extended");
     // A capped attempt that the budget's guard redid: the redo ran at the scene's caps.
-    const bool at_budget_cap = budget_cap > 0 && cap_event_count(p, "budget_guard_retries") == 0;
+    const bool at_budget_cap = budget_cap > 0 && p.iteration("budget_guard_retries") == 0;
     const bool outside = world.state().step_limit_violation > 1;
     CAPTURE(step);
     CAPTURE(sqp);
@@ -94,12 +92,12 @@ TEST_CASE("sqp cap extension: the first extended step ends no further past its l
     REQUIRE(once.state_hash() == none.state_hash());
     REQUIRE(once.step());
     REQUIRE(none.step());
-    if (cap_event_count(once.profile(), "sqp_extended") == 0) continue;
+    if (once.profile().iteration("sqp_extended") == 0) continue;
     found = true;
     CAPTURE(step);
-    CHECK(cap_event_count(none.profile(), "sqp") == 3);
+    CHECK(none.profile().iteration("sqp") == 3);
     MESSAGE("step " << step << ": " << none.state().step_limit_violation << " tolerances past at the plain cap, "
-                    << once.state().step_limit_violation << " after " << cap_event_count(once.profile(), "sqp") << " QPs");
+                    << once.state().step_limit_violation << " after " << once.profile().iteration("sqp") << " QPs");
     CHECK(none.state().step_limit_violation > 1);
     CHECK(once.state().step_limit_violation <= none.state().step_limit_violation);
   }
