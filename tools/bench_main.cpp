@@ -143,7 +143,7 @@ uint64_t run_once(const BenchScene& bench, const SceneDesc& scene, int warmup, i
 
 // Solver settings given on the command line for every scene (empty, 0 or -1: the scene's).
 struct SolverOverrides {
-  std::string linear, sqp_acceleration, pgs_sweeps, stale_factor_precision;
+  std::string linear, sqp_acceleration, pgs_sweeps, stale_factor_precision, pair_cuts;
   int delassus_reuse = 0, pgs_subspace = -1;
   double hessian_reuse_tolerance = -1;
 };
@@ -157,6 +157,8 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
   if (set.delassus_reuse > 0) scene.solver.delassus_reuse = set.delassus_reuse;
   if (set.pgs_subspace >= 0) scene.solver.pgs_subspace_interval = set.pgs_subspace;
   if (set.hessian_reuse_tolerance >= 0) scene.solver.hessian_reuse_tolerance = set.hessian_reuse_tolerance;
+  if (!set.pair_cuts.empty())
+    for (BodyDesc& body : scene.bodies) body.strain_limit.pair_cuts = set.pair_cuts;
   if (!bench.sleeping) scene.solver.sleep_steps = 0;
   // Repeats run the same steps again from the start (the simulation is deterministic: their
   // end states must agree), so that their spread shows the machine's timing noise (and the
@@ -213,7 +215,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
   return {{"steps_per_second", steps_per_second}, {"realtime_factor", steps_per_second * scene.h}, {"h", scene.h},
           {"violation_max", worst},
           {"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
-          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"stale_factor_precision", scene.solver.stale_factor_precision}, {"hessian_reuse_tolerance", scene.solver.hessian_reuse_tolerance}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
+          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"stale_factor_precision", scene.solver.stale_factor_precision}, {"hessian_reuse_tolerance", scene.solver.hessian_reuse_tolerance}, {"pair_cuts", set.pair_cuts.empty() ? "scene's" : set.pair_cuts}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
           {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world->state().x.allFinite()},
           {"repeats", repeat}, {"step_median_per_repeat", repeat_medians},
           {"step_median_of_repeats", quantile(repeat_medians, 0.5)}, {"repeats_identical", identical},
@@ -227,7 +229,7 @@ void print_usage(std::FILE* to) {
                "                   [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--delassus-reuse N]\n"
                "                   [--pgs-subspace N] [--pgs-sweeps active_set|all_rows]\n"
                "                   [--sqp-acceleration conjugate|none] [--stale-factor-precision single|double]\n"
-               "                   [--hessian-reuse-tolerance T] [--repeat N] [--out FILE]\n"
+               "                   [--hessian-reuse-tolerance T] [--pair-cuts on|off] [--repeat N] [--out FILE]\n"
                "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
                "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP\n"
                "iterations; with more than one scene, a summary table at the end.\n"
@@ -250,6 +252,8 @@ void print_usage(std::FILE* to) {
                "  --hessian-reuse-tolerance T\n"
                "                        solver.hessian_reuse_tolerance for every scene (hyperelastic tets keep\n"
                "                        their projected Hessian while F moves by at most T; 0: formed every time)\n"
+               "  --pair-cuts on|off    strain_limit.pair_cuts of every strain-limited body (off: no cut rows where\n"
+               "                        two principal stretches nearly meet, the paper's rows alone)\n"
                "  --repeat N            run each scene N times from the start (default 1): the stage figures\n"
                "                        pool every run's timed steps, and each run's median step, the median of\n"
                "                        those and whether every run ended in the same state are reported too\n"
@@ -313,6 +317,7 @@ Options parse_options(int argc, char** argv) {
     else if (arg == "--pgs-sweeps") o.set.pgs_sweeps = one_of(next(), {"active_set", "all_rows"});
     else if (arg == "--sqp-acceleration") o.set.sqp_acceleration = one_of(next(), {"conjugate", "none"});
     else if (arg == "--stale-factor-precision") o.set.stale_factor_precision = one_of(next(), {"single", "double"});
+    else if (arg == "--pair-cuts") o.set.pair_cuts = one_of(next(), {"on", "off"});
     else if (arg == "--hessian-reuse-tolerance") o.set.hessian_reuse_tolerance = cli::parse_nonnegative(next(), arg);
     else if (arg == "--help" || arg == "-h") o.help = true;
     else throw UsageError("unknown option '" + arg + "' (see --help)");

@@ -37,7 +37,7 @@ struct Terms {
   // index k in `keep`); the others' are left unset (the flat finger's candidate tets: ~450
   // rows of ~3,600 terms).
   double margin = std::numeric_limits<double>::infinity();
-  uint32_t keep = ~0u;
+  StrainRowMask keep = ~StrainRowMask{0};
   int count = 0;
   std::array<Term, kStrainLimitCount> term;
   bool wanted(int k, double C) const { return derivatives && strain_row_wanted(k, C, margin, keep); }
@@ -84,9 +84,38 @@ double blended_cosine(const Mat3& c, const Vec3& w, int i, int j) {
   return std::sqrt(a2);
 }
 
+// Whether pair p (axes p, p + 1) is close enough for its cuts (header), and the stretch
+// |F w| along either cut's direction.
+bool has_pair_cuts(const StrainLimitSpec& spec, const Vec3& s, int p) {
+  return spec.pair_cuts && s(p) - s(p + 1) < kStrainLimitBlendGap;
+}
+double cut_stretch(const Vec3& s, int p) { return std::sqrt(0.5 * (s(p) * s(p) + s(p + 1) * s(p + 1))); }
+
 // The hyperbolic constraints of principal stretch s against axis j's limits (eqs. 11-12).
 double hyperbolic_compress(double a, double s, double smin) { return a * (s - 1) - (smin - 1); }
 double hyperbolic_stretch(double a, double s, double smax) { return (smax - 1) - a * (s - 1); }
+
+// Every cut the tet has (header), in index order: visit(k, p, i, j, a, t, C) with pair p,
+// the cut's principal axis i (p for a stretch cut, p + 1 for a compress cut), its material
+// axis j, blended cosine a_ij, stretch t = |F w| and value C.
+template <class Visit>
+void for_each_pair_cut(const StrainLimitSpec& spec, const Vec3& s, const Mat3& c, Visit visit) {
+  for (int p = 0; p < 2; ++p) {
+    if (!has_pair_cuts(spec, s, p)) continue;
+    const double t = cut_stretch(s, p);
+    if (!(t > kTiny)) continue;  // both stretches ~0: no direction to hold
+    const Vec3 w_compress = blend_weights(s, p + 1), w_stretch = blend_weights(s, p);
+    for (int j = 0; j < 3; ++j)
+      for (int side = 0; side < 2; ++side) {
+        const int i = side == 1 ? p : p + 1;
+        if (side == 1 ? !has_max(spec.smax(j)) : !has_min(spec.smin(j))) continue;
+        const double a = blended_cosine(c, side == 1 ? w_stretch : w_compress, i, j);
+        if (a <= kTiny) continue;
+        const double C = side == 1 ? hyperbolic_stretch(a, t, spec.smax(j)) : hyperbolic_compress(a, t, spec.smin(j));
+        for (int sign = 0; sign < 2; ++sign) visit(strain_cut_index(p, j, side, sign), p, i, j, a, t, C);
+      }
+  }
+}
 
 // Hyperbolic constraints with the blended cosine (header): a_ij^2 = c_ij^2 + sum_l w_il c_lj^2.
 void add_hyperbolic_terms(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat3& c, Terms& out) {
@@ -143,16 +172,53 @@ StrainLimitValues hyperbolic_values(const StrainLimitSpec& spec, const RotationV
       if (has_min(spec.smin(j))) {
         const int k = strain_limit_index(i, j, 0);
         out.C[k] = hyperbolic_compress(a, s(i), spec.smin(j));
-        out.present |= 1u << k;
+        out.present |= StrainRowMask{1} << k;
       }
       if (has_max(spec.smax(j))) {
         const int k = strain_limit_index(i, j, 1);
         out.C[k] = hyperbolic_stretch(a, s(i), spec.smax(j));
-        out.present |= 1u << k;
+        out.present |= StrainRowMask{1} << k;
       }
     }
   }
+  for_each_pair_cut(spec, s, c, [&](int k, int, int, int, double, double, double C) {
+    out.C[k] = C;
+    out.present |= StrainRowMask{1} << k;
+  });
   return out;
+}
+
+// da_ij of the blended cosine as the coefficients of ds (P_a) and of dc_lj (column j of Q,
+// Q_a): the terms add_hyperbolic_terms scales by (s_i - 1).
+void blended_cosine_slopes(const Mat3& c, const Vec3& s, int i, int j, double a, Vec3& P_a, Vec3& Q_a) {
+  const Vec3 w = blend_weights(s, i);
+  P_a.setZero();
+  Q_a.setZero();
+  Q_a(i) = c(i, j) / a;
+  for (int l = 0; l < 3; ++l) {
+    if (l == i) continue;
+    Q_a(l) = w(l) * c(l, j) / a;
+    const double dw_ds =
+        blend_weight_slope(std::abs(s(i) - s(l)) / kStrainLimitBlendGap) * sign_of(s(i) - s(l)) / kStrainLimitBlendGap;
+    const double dP = 0.5 * c(l, j) * c(l, j) * dw_ds / a;
+    P_a(i) += dP;
+    P_a(l) -= dP;
+  }
+}
+
+// dC/dF of dC = sum_l P_l ds_l + sum_lj Q_lj dc_lj: sum_l P_l u_l v_l^T + sum_l (dV e_l) .
+// (M Q^T e_l), entry by entry (dc_lj = (dV e_l) . m_j): <dV, W> with W = M Q^T, = <Omega_V, X>
+// with X = V^T W, Omega_V antisymmetric: sum over pairs k < l of Omega_V(k, l) (X_kl - X_lk).
+Mat3 gradient_in_F(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const SvdRotationDerivative& d,
+                   const Vec3& P, const Mat3& Q) {
+  Mat3 G = svd.U * P.asDiagonal() * svd.V.transpose();
+  if (Q.squaredNorm() > 0) {
+    const Mat3 X = svd.V.transpose() * (spec.frame * Q.transpose());
+    const Vec3 x(X(0, 1) - X(1, 0), X(0, 2) - X(2, 0), X(1, 2) - X(2, 1));
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) G(r, c) += d.omega_V[r][c].dot(x);
+  }
+  return G;
 }
 
 // Every constraint the tet has, with its value and derivative coefficients, in index order.
@@ -240,7 +306,7 @@ StrainLimitValues compute_strain_limit_values(const StrainLimitSpec& spec,
   StrainLimitValues out;
   for (int t = 0; t < terms.count; ++t) {
     out.C[terms.term[t].k] = terms.term[t].C;
-    out.present |= 1u << terms.term[t].k;
+    out.present |= StrainRowMask{1} << terms.term[t].k;
   }
   return out;
 }
@@ -265,13 +331,13 @@ ProjectedStrainLimits compute_projected_strain_limits(const StrainLimitSpec& spe
 }
 
 void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat43& dN_dX,
-                           double margin, uint32_t keep, StrainLimitRows& out,
+                           double margin, StrainRowMask keep, StrainLimitRows& out,
                            double gap_tolerance) {
   evaluate_strain_limit(spec, compute_rotation_variant_svd(F), dN_dX, margin, keep, out, gap_tolerance);
 }
 
 void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
-                           double margin, uint32_t keep, StrainLimitRows& out, double gap_tolerance) {
+                           double margin, StrainRowMask keep, StrainLimitRows& out, double gap_tolerance) {
   out.count = 0;
   // Values first: most tets of a scene have no row near its limit (the flat finger: 231 of
   // 324), and their derivative coefficients would go unused. Not when rows are kept (rows
@@ -279,14 +345,14 @@ void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd
   if (keep == 0) {
     const StrainLimitValues values = compute_strain_limit_values(spec, svd);
     bool any = false;
-    for (int k = 0; k < kStrainLimitCount; ++k) any = any || ((values.present >> k & 1u) && values.C[k] < margin);
+    for (int k = 0; k < kStrainLimitCount; ++k) any = any || ((values.present >> k & 1) && values.C[k] < margin);
     if (!any) return;
   }
   evaluate_strain_limit_rows(spec, svd, dN_dX, margin, keep, out, gap_tolerance);
 }
 
 void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
-                                double margin, uint32_t keep, StrainLimitRows& out, double gap_tolerance) {
+                                double margin, StrainRowMask keep, StrainLimitRows& out, double gap_tolerance) {
   out.count = 0;
   Terms terms;
   terms.derivatives = true;
@@ -296,25 +362,49 @@ void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVaria
 
   // dc_ij/dF(r, c) = (dV/dF(r, c) e_i) . m_j, so sum_j q_j dc_ij/dF(r, c) = dV e_i . (M q).
   const SvdRotationDerivative d = compute_svd_rotation_derivative(svd, gap_tolerance);
+  const auto add_row = [&](int k, double C, const Mat3& G) {
+    StrainLimitRow& row = out.row[out.count++];
+    row.index = k;
+    row.value = C;
+    row.dF = G;
+    for (int a = 0; a < 4; ++a) row.jac.segment<3>(3 * a) = G * dN_dX.row(a).transpose();
+  };
   for (int t = 0; t < terms.count; ++t) {
     const Term& term = terms.term[t];
     if (!terms.wanted(term.k, term.C)) continue;  // C below the margin, or kept: P and Q are set
-    // dC/dF = sum_l P_l u_l v_l^T + sum_l (dV e_l) . (M Q^T e_l), entry by entry
-    // (dc_lj = (dV e_l) . m_j): <dV, W> with W = M Q^T, = <Omega_V, X> with X = V^T W,
-    // Omega_V antisymmetric: sum over pairs k < l of Omega_V(k, l) (X_kl - X_lk).
-    Mat3 G = svd.U * term.P.asDiagonal() * svd.V.transpose();
-    if (term.Q.squaredNorm() > 0) {
-      const Mat3 X = svd.V.transpose() * (spec.frame * term.Q.transpose());
-      const Vec3 x(X(0, 1) - X(1, 0), X(0, 2) - X(2, 0), X(1, 2) - X(2, 1));
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c) G(r, c) += d.omega_V[r][c].dot(x);
-    }
-    StrainLimitRow& row = out.row[out.count++];
-    row.index = term.k;
-    row.value = term.C;
-    row.dF = G;
-    for (int a = 0; a < 4; ++a) row.jac.segment<3>(3 * a) = G * dN_dX.row(a).transpose();
+    add_row(term.k, term.C, gradient_in_F(spec, svd, d, term.P, term.Q));
   }
+  if (spec.mode != StrainLimitMode::Hyperbolic) return;
+  const Mat3 c = axis_cosines(spec, svd);
+  const Vec3& s = svd.S;
+  for_each_pair_cut(spec, s, c, [&](int k, int p, int i, int j, double a, double t, double C) {
+    if (!strain_row_wanted(k, C, margin, keep)) return;
+    // Stretch: dC/dF = -((t - 1) da/dF + a n w^T); compress: the same with + . w = (v_p +-
+    // v_{p+1}) / sqrt 2 held in the material, n = F w / t.
+    Vec3 P_a, Q_a_col;
+    blended_cosine_slopes(c, s, i, j, a, P_a, Q_a_col);
+    Mat3 Q_a = Mat3::Zero();
+    Q_a.col(j) = Q_a_col;
+    const double pm = (k - kStrainCutFirst) % 2 == 0 ? 1.0 : -1.0;
+    const Vec3 dir = strain_cut_direction(svd, k);
+    const Vec3 n = (s(p) * svd.U.col(p) + pm * s(p + 1) * svd.U.col(p + 1)) / (std::sqrt(2.0) * t);
+    const Mat3 G = gradient_in_F(spec, svd, d, (t - 1) * P_a, (t - 1) * Q_a) + a * n * dir.transpose();
+    add_row(k, C, i == p ? Mat3(-G) : G);
+  });
+}
+
+Vec3 strain_cut_direction(const RotationVariantSvd& svd, int k) {
+  const int q = k - kStrainCutFirst, p = q / 12;
+  const double pm = q % 2 == 0 ? 1.0 : -1.0;
+  return (svd.V.col(p) + pm * svd.V.col(p + 1)) / std::sqrt(2.0);
+}
+
+double strain_cut_value(const StrainLimitSpec& spec, const RotationVariantSvd& svd, int k, const Vec3& w) {
+  const int q = k - kStrainCutFirst, p = q / 12, j = q % 12 / 4, side = q % 4 / 2;
+  const int i = side == 1 ? p : p + 1;
+  const double a = blended_cosine(axis_cosines(spec, svd), blend_weights(svd.S, i), i, j);
+  const double t = (svd.U * svd.S.asDiagonal() * svd.V.transpose() * w).norm();
+  return side == 1 ? hyperbolic_stretch(a, t, spec.smax(j)) : hyperbolic_compress(a, t, spec.smin(j));
 }
 
 double worst_strain_violation(const StrainLimitSpec& spec, const Mat3& F) {
@@ -328,7 +418,7 @@ double worst_strain_violation(const StrainLimitSpec& spec, const RotationVariant
 double worst_strain_violation(const StrainLimitValues& values) {
   double worst = -kInf;
   for (int k = 0; k < kStrainLimitCount; ++k)
-    if (values.present >> k & 1u) worst = std::max(worst, -values.C[k]);
+    if (values.present >> k & 1) worst = std::max(worst, -values.C[k]);
   return worst;
 }
 

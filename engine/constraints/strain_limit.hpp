@@ -93,12 +93,38 @@ struct StrainLimitSpec {
   Vec3 smax = Vec3::Constant(std::numeric_limits<double>::infinity());  // per axis; +inf: free
   Mat3 frame = Mat3::Identity();  // columns m_j: material axes in rest coords (orthonormal)
   StrainLimitMode mode = StrainLimitMode::Hyperbolic;
+  bool pair_cuts = true;  // hyperbolic mode: the cuts near equal stretches (above)
 };
 
 // Constraint index k = 6 i + 2 j + side (i principal axis, j material axis, side 0 compress /
 // 1 stretch); Linear and Isotropic use j = 0. Stable keys: row_key(RowKind::Strain, tet, k).
 constexpr int kStrainLimitCount = 18;
 constexpr int strain_limit_index(int i, int j, int side) { return 6 * i + 2 * j + side; }
+
+// Beyond the paper, hyperbolic mode ("pair cuts", spec.pair_cuts): extra rows where two
+// principal stretches nearly meet, s_p - s_{p+1} < kStrainLimitBlendGap (pair p = 0: axes
+// 0 and 1; p = 1: axes 1 and 2). There the larger of the pair is a cone in F, s_p = max of
+// |F w| over unit w in the pair's plane, and each linearisation of its stretch row
+// under-predicts it by about move^2 / gap (docs/ARCHITECTURE.md, "Why the pressed finger
+// never settles"); the smaller, a min, is over-predicted, which its compress rows miss. The
+// cuts hold the stretch along the two directions halfway between the pair's axes,
+// w = (v_p +- v_{p+1}) / sqrt 2, fixed in the material for the row's linearisation:
+//   stretch cut of axis p:      C = (smax_j - 1) - a_pj (|F w| - 1)
+//   compress cut of axis p + 1: C = a_(p+1)j (|F w| - 1) - (smin_j - 1)
+// with the blended cosine of that axis' own row and |F w| = sqrt((s_p^2 + s_{p+1}^2) / 2)
+// at the SVD's F. Since s_{p+1} <= |F w| <= s_p, a cut is never below its axis' row: it
+// reports no violation of its own (violations are measured on the 18 constraints alone).
+// |F w| at fixed w is smooth (its linearisation misses by move^2 / |F w|, not / gap), and
+// with the pair's own rows the cuts sample the plane every 45 degrees, so a QP step can no
+// longer turn the stretch to a direction its rows do not see. Jacobian (w held):
+//   dC/dF = -+((|F w| - 1) da/dF + a n w^T),  n = F w / |F w|  (- stretch, + compress),
+// da/dF as in the rows' blended cosine. No curvature block (strain_limit_curvature.hpp).
+// Index k = 18 + 12 p + 4 j + 2 side + sign (side 0 compress, 1 stretch; sign 0: w with +,
+// 1: with -): 42 indices in all, bit masks of 64 bits.
+constexpr int kStrainCutFirst = 18;
+constexpr int kStrainRowIndexCount = 42;
+constexpr int strain_cut_index(int p, int j, int side, int sign) { return kStrainCutFirst + 12 * p + 4 * j + 2 * side + sign; }
+using StrainRowMask = uint64_t;  // bit k: row index k
 
 constexpr double kStrainLimitGapTolerance = 1e-3;
 constexpr double kStrainLimitBlendGap = 0.02;
@@ -108,8 +134,8 @@ using Mat43 = Eigen::Matrix<double, 4, 3>;
 
 // Values of the constraints a tet has (bit k of `present`); C[k] is meaningful only there.
 struct StrainLimitValues {
-  std::array<double, kStrainLimitCount> C{};
-  uint32_t present = 0;
+  std::array<double, kStrainRowIndexCount> C{};  // the 18 constraints, then the cuts
+  StrainRowMask present = 0;
 };
 
 StrainLimitValues compute_strain_limit_values(const StrainLimitSpec& spec,
@@ -117,8 +143,8 @@ StrainLimitValues compute_strain_limit_values(const StrainLimitSpec& spec,
 
 // Whether constraint k with value C becomes a row: C below the margin, or bit k of `keep`
 // set (it carried force earlier in the step).
-inline bool strain_row_wanted(int k, double C, double margin, uint32_t keep) {
-  return C < margin || (keep >> k & 1u);
+inline bool strain_row_wanted(int k, double C, double margin, StrainRowMask keep) {
+  return C < margin || (keep >> k & 1);
 }
 
 // The tightest limits on each principal stretch s_i implied by the constraints
@@ -139,24 +165,29 @@ struct StrainLimitRow {
 
 struct StrainLimitRows {
   int count = 0;
-  std::array<StrainLimitRow, kStrainLimitCount> row;  // the first `count` are valid
+  std::array<StrainLimitRow, kStrainRowIndexCount> row;  // the first `count` are valid
 };
 
 // Rows of one tet: every constraint it has with C_k < margin, or whose bit k is set in
 // `keep` (rows that carried force earlier in the step). margin = +inf returns them all.
 // Allocates nothing.
 void evaluate_strain_limit(const StrainLimitSpec& spec, const Mat3& F, const Mat43& dN_dX,
-                           double margin, uint32_t keep, StrainLimitRows& out,
+                           double margin, StrainRowMask keep, StrainLimitRows& out,
                            double gap_tolerance = kStrainLimitGapTolerance);
 // The same from F's rotation-variant SVD, when the caller has it already.
 void evaluate_strain_limit(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
-                           double margin, uint32_t keep, StrainLimitRows& out,
+                           double margin, StrainRowMask keep, StrainLimitRows& out,
                            double gap_tolerance = kStrainLimitGapTolerance);
 // The same for a caller that knows the tet has rows (keep != 0, or its
 // worst_strain_violation above -margin): no values-only pass first. The same rows.
 void evaluate_strain_limit_rows(const StrainLimitSpec& spec, const RotationVariantSvd& svd, const Mat43& dN_dX,
-                                double margin, uint32_t keep, StrainLimitRows& out,
+                                double margin, StrainRowMask keep, StrainLimitRows& out,
                                 double gap_tolerance = kStrainLimitGapTolerance);
+
+// Cut k's material direction w at this SVD, and cut k with its direction held at w (the
+// function its row linearises; at w = strain_cut_direction(svd, k) its value is C[k]).
+Vec3 strain_cut_direction(const RotationVariantSvd& svd, int k);
+double strain_cut_value(const StrainLimitSpec& spec, const RotationVariantSvd& svd, int k, const Vec3& w);
 
 // Worst violation max_k(-C_k) of one tet (positive when violated; -inf when it has no
 // constraint). No gradients.

@@ -64,10 +64,13 @@ Mat3 separated_singular_values(const Mat3& F) {
 }  // namespace
 
 void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F_given, const StrainLimitRows& rows,
-                           std::array<Mat9, kStrainLimitCount>& hessians) {
+                           std::array<Mat9, kStrainRowIndexCount>& hessians) {
   const Mat3 F = separated_singular_values(F_given);
-  uint32_t wanted = 0;
-  for (int r = 0; r < rows.count; ++r) wanted |= 1u << rows.row[r].index;
+  StrainRowMask wanted = 0;
+  // A cut (strain_limit.hpp) holds a direction fixed in the material, which its own row at
+  // a probe would not: its block is left 0 (the cuts are nearly flat in F).
+  for (int r = 0; r < rows.count; ++r)
+    if (rows.row[r].index < kStrainCutFirst) wanted |= StrainRowMask{1} << rows.row[r].index;
   const Mat43 unused = Mat43::Zero();  // only dC/dF is read
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   for (int r = 0; r < rows.count; ++r) hessians[r].setZero();
@@ -90,6 +93,7 @@ void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F_given, con
     // A row may vanish at a perturbed F (a_ij crossing 1e-12): its column stays 0.
     for (int r = 0, p = 0, b = 0; r < rows.count; ++r) {
       const int k = rows.row[r].index;
+      if (k >= kStrainCutFirst) continue;
       while (p < plus.count && plus.row[p].index < k) ++p;
       while (b < base.count && base.row[b].index < k) ++b;
       if (p == plus.count || b == base.count || plus.row[p].index != k || base.row[b].index != k) continue;
@@ -101,7 +105,7 @@ void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F_given, con
 }
 
 void compute_strain_limit_curvatures(const StrainLimitSpec& spec, const Mat3& F, const Mat43& dN_dX,
-                                     const StrainLimitRows& rows, std::array<Mat12, kStrainLimitCount>& out) {
+                                     const StrainLimitRows& rows, std::array<Mat12, kStrainRowIndexCount>& out) {
   if (rows.count == 0) return;
   if (spec.mode == StrainLimitMode::Isotropic) {
     const RotationVariantSvd svd = compute_rotation_variant_svd(F);
@@ -109,7 +113,7 @@ void compute_strain_limit_curvatures(const StrainLimitSpec& spec, const Mat3& F,
       out[r] = compute_isotropic_strain_limit_curvature(svd, rows.row[r].index / 6, rows.row[r].index % 2 == 1, dN_dX);
     return;
   }
-  std::array<Mat9, kStrainLimitCount> hessians;
+  std::array<Mat9, kStrainRowIndexCount> hessians;
   strain_limit_hessians(spec, F, rows, hessians);
   const Eigen::Matrix<double, 9, 12> B = vec_F_by_x(dN_dX);
   for (int r = 0; r < rows.count; ++r) out[r] = B.transpose() * project_numerically(-hessians[r]) * B;

@@ -48,13 +48,15 @@ Mat12 compute_isotropic_strain_limit_curvature(const RotationVariantSvd& svd, in
                                                const Mat43& dN_dX);
 
 // d2C_k/dF2 (9 x 9 over vec(F), column-major) of every row in `rows` (evaluated at F, any
-// mode), by forward differences of dC/dF, stretches kept apart as above; symmetrised.
+// mode), by forward differences of dC/dF, stretches kept apart as above; symmetrised. A
+// pair cut's (strain_limit.hpp) is 0: it holds a direction fixed in the material, which
+// the probes' own SVDs would turn, and |F w| along it is nearly flat in F.
 void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F, const StrainLimitRows& rows,
-                           std::array<Mat9, kStrainLimitCount>& hessians);
+                           std::array<Mat9, kStrainRowIndexCount>& hessians);
 
 // The curvature block of every row in `rows`, in their order: the isotropic formula for
 // isotropic limits, else -d2C/dF2 of strain_limit_hessians with eigenvalues clamped at 0.
 void compute_strain_limit_curvatures(const StrainLimitSpec& spec, const Mat3& F, const Mat43& dN_dX,
-                                     const StrainLimitRows& rows, std::array<Mat12, kStrainLimitCount>& out);
+                                     const StrainLimitRows& rows, std::array<Mat12, kStrainRowIndexCount>& out);
 
 }  // namespace sinew

@@ -17,6 +17,7 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc) {
   spec.smin = desc.smin;
   spec.smax = desc.smax;
   spec.frame = desc.frame;
+  spec.pair_cuts = desc.pair_cuts == "on";
   spec.mode = desc.mode == "orthogonal" ? StrainLimitMode::Orthogonal
               : desc.mode == "linear"   ? StrainLimitMode::Linear
               : desc.mode == "isotropic" ? StrainLimitMode::Isotropic
@@ -29,9 +30,9 @@ struct StrainRowBuffers {
   std::vector<double> worst;
   std::vector<RotationVariantSvd> svds;
   std::vector<StrainLimitValues> values;
-  std::vector<std::pair<int, uint32_t>> kept;
+  std::vector<std::pair<int, StrainRowMask>> kept;
   std::vector<int> candidates;
-  std::vector<uint32_t> masks;  // per candidate, its kept constraints
+  std::vector<StrainRowMask> masks;  // per candidate, its kept constraints
   std::vector<StrainLimitRows> found;
   // A build with deferred Jacobians: its first row in the table, its margin (-1: none pending).
   int deferred_first_row = -1;
@@ -95,10 +96,10 @@ const std::vector<double>& worst_per_element(const Model& model, const VecX& x, 
 
 // The rows of one tet without their Jacobians: those evaluate_strain_limit_rows makes (C
 // below the margin, or kept), in its order (index order), from the values it would compute.
-void rows_without_jacobians(const StrainLimitValues& values, double margin, uint32_t keep, StrainLimitRows& out) {
+void rows_without_jacobians(const StrainLimitValues& values, double margin, StrainRowMask keep, StrainLimitRows& out) {
   out.count = 0;
-  for (int k = 0; k < kStrainLimitCount; ++k)
-    if ((values.present >> k & 1u) && strain_row_wanted(k, values.C[k], margin, keep)) {
+  for (int k = 0; k < kStrainRowIndexCount; ++k)
+    if ((values.present >> k & 1) && strain_row_wanted(k, values.C[k], margin, keep)) {
       StrainLimitRow& row = out.row[out.count++];
       row.index = k;
       row.value = values.C[k];
@@ -125,7 +126,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
   const std::vector<RotationVariantSvd>& svds = buffers.svds;
   const std::vector<double>& worst = worst_per_element(model, x, buffers.worst, &buffers);
   // Kept constraints per tet, as bit masks over the constraint index k.
-  std::vector<std::pair<int, uint32_t>>& kept = buffers.kept;
+  std::vector<std::pair<int, StrainRowMask>>& kept = buffers.kept;
   std::vector<int>& candidates = buffers.candidates;
   std::vector<StrainLimitRows>& found = buffers.found;
   kept.clear();
@@ -133,7 +134,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
   for (uint64_t key : keep)
     if (row_key_kind(key) == RowKind::Strain) {
       const int e = static_cast<int>(row_key_first(key));
-      const uint32_t bit = 1u << row_key_second(key);
+      const StrainRowMask bit = StrainRowMask{1} << row_key_second(key);
       if (kept.empty() || kept.back().first != e) kept.push_back({e, 0});
       kept.back().second |= bit;
     }
@@ -144,7 +145,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
     if (is_limited(model, e) && (worst[e] > -margin || has_kept)) candidates.push_back(e);
   }
   found.resize(candidates.size());
-  std::vector<uint32_t>& masks = buffers.masks;
+  std::vector<StrainRowMask>& masks = buffers.masks;
   masks.resize(candidates.size());
   const bool defer = jacobians == StrainJacobians::Deferred;
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
@@ -221,6 +222,9 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
   int blocks = static_cast<int>(rows.curvature_blocks.size());
   for (int i = 0; i < rows.size(); ++i) {
     if (rows.kind[i] != RowKind::Strain || rows.lambda[i] <= 0 || rows.curvature_block[i] >= 0) continue;
+    // A cut is |F w| along a fixed w, nearly flat in F: no curvature (its blended cosine's
+    // is left out with it).
+    if (row_key_second(rows.key[i]) >= kStrainCutFirst) continue;
     const int e = rows.element[i];
     if (tets.empty() || tets.back().element != e) tets.push_back({e, blocks, {}});
     Tet& tet = tets.back();
@@ -232,7 +236,7 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
     const int e = tets[t].element;
     const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    std::array<Mat12, kStrainLimitCount> out;  // 20 KB on the task's stack
+    std::array<Mat12, kStrainRowIndexCount> out;  // 35 KB on the task's stack
     compute_strain_limit_curvatures(spec, tet_deformation_gradient(model, x, e), dN_dX, tets[t].wanted, out);
     for (int r = 0; r < tets[t].wanted.count; ++r) rows.curvature_blocks[tets[t].first_block + r] = out[r];
   });

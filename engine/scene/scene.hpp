@@ -49,6 +49,7 @@ struct StrainLimitDesc {
   // the frame of the last region that holds it.
   std::vector<std::pair<RegionDesc, Mat3>> frame_regions;
   std::string mode = "hyperbolic";   // "hyperbolic", "orthogonal", "linear" or "isotropic"
+  std::string pair_cuts = "on";      // hyperbolic: "on" (cuts near equal stretches) or "off"
 };
 
 // Energy limit (paper 000, eq. 14), per body with per-region overrides.

@@ -443,6 +443,7 @@ StrainLimitDesc parse_strain_limit(const Object& o) {
   StrainLimitDesc d;
   d.enabled = true;
   o.choice("mode", d.mode, {"hyperbolic", "orthogonal", "linear", "isotropic"});
+  o.choice("pair_cuts", d.pair_cuts, {"on", "off"});
   if (!o.has("smin") && !o.has("smax")) o.node().fail("expected 'smin', 'smax' or both");
   if (auto n = o.get("smin")) d.smin = parse_axis_limits(*n, 0.0, Range{0, 1, false, false});
   if (auto n = o.get("smax")) d.smax = parse_axis_limits(*n, kInf, Range{1, kInf, false, true});
@@ -567,7 +568,7 @@ BodyDesc parse_body(const Node& node, std::size_t index) {
   }
   if (auto e = o.get("strain_limit")) {
     if (b.elements != "tet") e->fail("strain limits need tet elements (set \"elements\": \"tet\" or use 'tet_mesh')");
-    b.strain_limit = parse_strain_limit(Object(*e, {"smin", "smax", "mode", "frame_deg", "frame_regions"}));
+    b.strain_limit = parse_strain_limit(Object(*e, {"smin", "smax", "mode", "pair_cuts", "frame_deg", "frame_regions"}));
   }
   return b;
 }

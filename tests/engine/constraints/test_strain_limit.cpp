@@ -81,7 +81,7 @@ Vec12 fd_gradient(const Tet& tet, const StrainLimitSpec& spec, const std::array<
   return g;
 }
 
-int popcount(uint32_t bits) {
+int popcount(StrainRowMask bits) {
   int n = 0;
   for (; bits; bits &= bits - 1) ++n;
   return n;
@@ -100,6 +100,9 @@ TEST_CASE("strain limit: every mode's Jacobian equals finite differences of its 
   // three within it.
   const Vec3 stretches[] = {Vec3(1.15, 1.02, 0.9), Vec3(1.3, 0.95, 0.8), Vec3(1.1, 0.97, -0.85),
                             Vec3(1.03, 1.02, 0.9), Vec3(1.03, 1.02, 1.015)};
+  // The paper's rows: the pair cuts hold a direction fixed in the material, so their
+  // Jacobians are not those of their values as functions of F (test_strain_limit_cuts.cpp).
+  spec.pair_cuts = false;
   for (StrainLimitMode mode : kModes) {
     spec.mode = mode;
     for (const Vec3& s : stretches) {
@@ -360,15 +363,15 @@ TEST_CASE("strain limit: only near-active rows, plus the kept ones, are returned
       random_rotation(rng) * Vec3(1.08, 1.0, 0.93).asDiagonal() * random_rotation(rng).transpose();
   const StrainLimitValues v = values(spec, F);
   const double margin = 0.02;
-  const uint32_t keep = 1u << strain_limit_index(1, 1, 1);
+  const StrainRowMask keep = StrainRowMask{1} << strain_limit_index(1, 1, 1);
   StrainLimitRows rows;
   evaluate_strain_limit(spec, F, tet.dN_dX, margin, keep, rows);
-  uint32_t expected = 0;
-  for (int k = 0; k < kStrainLimitCount; ++k)
-    if ((v.present >> k & 1u) && (v.C[k] < margin || (keep >> k & 1u))) expected |= 1u << k;
-  uint32_t got = 0;
+  StrainRowMask expected = 0;
+  for (int k = 0; k < kStrainRowIndexCount; ++k)
+    if ((v.present >> k & 1u) && (v.C[k] < margin || (keep >> k & 1u))) expected |= StrainRowMask{1} << k;
+  StrainRowMask got = 0;
   for (int r = 0; r < rows.count; ++r) {
-    got |= 1u << rows.row[r].index;
+    got |= StrainRowMask{1} << rows.row[r].index;
     CHECK(rows.row[r].value == v.C[rows.row[r].index]);
     if (r > 0) CHECK(rows.row[r].index > rows.row[r - 1].index);
   }
@@ -418,16 +421,25 @@ TEST_CASE("strain limit: rows stay finite at rest, at repeated and at zero singu
   }
   // At rest, hyperbolic: the three stretches are equal, so every blended cosine is the
   // length of m_j, a_ij = 1 (all 18 rows), and dC/dx_a = +-(u_i v_i^T) dN_a: s_i - 1 = 0
-  // removes every rotation and blend term.
+  // removes every rotation and blend term. Both pairs are equal too: 24 cuts (2 pairs, 3
+  // axes, 2 sides, 2 directions), each +-(n w^T) dN_a with n = w (|F w| - 1 = 0).
   spec.mode = StrainLimitMode::Hyperbolic;
   const RotationVariantSvd rest = compute_rotation_variant_svd(Mat3::Identity());
   StrainLimitRows rows;
   evaluate_strain_limit(spec, Mat3::Identity(), tet.dN_dX, kInf, 0, rows);
-  CHECK(rows.count == 18);
+  CHECK(rows.count == 18 + 24);
   for (int r = 0; r < rows.count; ++r) {
-    const int k = rows.row[r].index, i = k / 6;
-    const double sign = k % 2 == 0 ? 1.0 : -1.0;
-    const Mat3 G = sign * rest.U.col(i) * rest.V.col(i).transpose();
+    const int k = rows.row[r].index;
+    Mat3 G;
+    if (k < kStrainCutFirst) {
+      const int i = k / 6;
+      const double sign = k % 2 == 0 ? 1.0 : -1.0;
+      G = sign * rest.U.col(i) * rest.V.col(i).transpose();
+    } else {
+      const bool stretch = (k - kStrainCutFirst) % 4 / 2 == 1;
+      const Vec3 w = strain_cut_direction(rest, k);
+      G = (stretch ? -1.0 : 1.0) * w * w.transpose();
+    }
     for (int a = 0; a < 4; ++a)
       CHECK((rows.row[r].jac.segment<3>(3 * a) - G * tet.dN_dX.row(a).transpose()).norm() < 1e-12);
   }
@@ -497,15 +509,15 @@ TEST_CASE("strain limit: the values alone equal the rows' values bit for bit, in
     const StrainLimitValues v = compute_strain_limit_values(spec, svd);
     StrainLimitRows rows;
     evaluate_strain_limit_rows(spec, svd, tet.dN_dX, kInf, 0u, rows);  // margin +inf: every constraint
-    uint32_t present = 0;
+    StrainRowMask present = 0;
     for (int r = 0; r < rows.count; ++r) {
       const int k = rows.row[r].index;
-      present |= 1u << k;
+      present |= StrainRowMask{1} << k;
       CHECK(std::memcmp(&v.C[k], &rows.row[r].value, sizeof(double)) == 0);
       ++compared;
     }
     CHECK(present == v.present);
-    if (aligned && spec.mode == StrainLimitMode::Hyperbolic) CHECK(__builtin_popcount(v.present) <= 6);
+    if (aligned && spec.mode == StrainLimitMode::Hyperbolic) CHECK(__builtin_popcountll(v.present) <= 6);
     absent_seen = absent_seen || (aligned && spec.mode == StrainLimitMode::Hyperbolic);
   }
   CHECK(compared > 2000);

@@ -69,6 +69,7 @@ TEST_CASE("strain limit curvature: the Hessian in F equals second differences of
   // Stretches apart (the paper's cosines) and two within kStrainLimitBlendGap (blended) but
   // beyond kCurvatureGap (where the probes' dV is exact).
   const Vec3 stretches[] = {Vec3(1.2, 1.0, 0.9), Vec3(1.035, 1.02, 0.9)};
+  spec.pair_cuts = false;  // the cuts have no curvature block (next case)
   for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal, StrainLimitMode::Linear}) {
     spec.mode = mode;
     for (const Vec3& s : stretches) {
@@ -77,7 +78,7 @@ TEST_CASE("strain limit curvature: the Hessian in F equals second differences of
       StrainLimitRows rows;
       evaluate_strain_limit(spec, F, Mat43::Zero(), kInf, 0, rows);
       REQUIRE(rows.count > 0);
-      std::array<Mat9, kStrainLimitCount> hessians;
+      std::array<Mat9, kStrainRowIndexCount> hessians;
       strain_limit_hessians(spec, F, rows, hessians);
       double worst = 0;
       for (int r = 0; r < rows.count; ++r) {
@@ -121,15 +122,18 @@ TEST_CASE("strain limit curvature: blocks are the positive part of -d2C/dF2 in x
       CAPTURE(c);
       StrainLimitRows rows;
       evaluate_strain_limit(spec, cases[c], dN, kInf, 0, rows);
-      std::array<Mat12, kStrainLimitCount> blocks;
+      std::array<Mat12, kStrainRowIndexCount> blocks;
       compute_strain_limit_curvatures(spec, cases[c], dN, rows, blocks);
-      std::array<Mat9, kStrainLimitCount> hessians;
+      std::array<Mat9, kStrainRowIndexCount> hessians;
       if (mode != StrainLimitMode::Isotropic) strain_limit_hessians(spec, cases[c], rows, hessians);
       for (int r = 0; r < rows.count; ++r) {
         REQUIRE(blocks[r].allFinite());
         const double scale = std::max(blocks[r].norm(), 1e-300);
         CHECK((blocks[r] - blocks[r].transpose()).norm() <= 1e-12 * scale);
         CHECK(test::min_eigenvalue(blocks[r]) >= -1e-10 * scale);
+        // A pair cut (the near-equal stretches of case 1, and rest) holds a material
+        // direction its probes would not: no block (strain_limit_curvature.hpp).
+        if (rows.row[r].index >= kStrainCutFirst) CHECK(blocks[r].norm() == 0);
         // Against a reference built without the code under test, where C is smooth (case 0:
         // stretches 0.1 apart): the positive part of -(second differences of the values),
         // mapped by B. Clamping eigenvalues is the projection onto the PSD cone, which moves
@@ -167,7 +171,7 @@ TEST_CASE("strain limit curvature: bounded as two stretches meet, whichever side
   const auto largest_block = [&](const Mat3& F) {
     StrainLimitRows rows;
     evaluate_strain_limit(spec, F, dN, kInf, 0, rows);
-    std::array<Mat12, kStrainLimitCount> blocks;
+    std::array<Mat12, kStrainRowIndexCount> blocks;
     compute_strain_limit_curvatures(spec, F, dN, rows, blocks);
     double largest = 0;
     for (int r = 0; r < rows.count; ++r) {
