@@ -87,7 +87,7 @@ double blended_cosine(const Mat3& c, const Vec3& w, int i, int j) {
 // Whether pair p (axes p, p + 1) is close enough for its cuts (header), and the stretch
 // |F w| along either cut's direction.
 bool has_pair_cuts(const StrainLimitSpec& spec, const Vec3& s, int p) {
-  return spec.pair_cuts && s(p) - s(p + 1) < kStrainLimitBlendGap;
+  return spec.pair_cuts && s(p) - s(p + 1) < std::min(spec.pair_cut_gap, kStrainLimitBlendGap);
 }
 double cut_stretch(const Vec3& s, int p) { return std::sqrt(0.5 * (s(p) * s(p) + s(p + 1) * s(p + 1))); }
 

@@ -88,12 +88,16 @@ namespace sinew {
 
 enum class StrainLimitMode { Hyperbolic, Orthogonal, Linear, Isotropic };
 
+constexpr double kStrainLimitGapTolerance = 1e-3;
+constexpr double kStrainLimitBlendGap = 0.02;
+
 struct StrainLimitSpec {
   Vec3 smin = Vec3::Zero();  // per material axis; <= 0: free
   Vec3 smax = Vec3::Constant(std::numeric_limits<double>::infinity());  // per axis; +inf: free
   Mat3 frame = Mat3::Identity();  // columns m_j: material axes in rest coords (orthonormal)
   StrainLimitMode mode = StrainLimitMode::Hyperbolic;
-  bool pair_cuts = true;  // hyperbolic mode: the cuts near equal stretches (above)
+  bool pair_cuts = true;  // hyperbolic mode: the cuts near equal stretches (below)
+  double pair_cut_gap = kStrainLimitBlendGap;  // cuts where s_p - s_{p+1} < this (<= the blend gap)
 };
 
 // Constraint index k = 6 i + 2 j + side (i principal axis, j material axis, side 0 compress /
@@ -102,8 +106,8 @@ constexpr int kStrainLimitCount = 18;
 constexpr int strain_limit_index(int i, int j, int side) { return 6 * i + 2 * j + side; }
 
 // Beyond the paper, hyperbolic mode ("pair cuts", spec.pair_cuts): extra rows where two
-// principal stretches nearly meet, s_p - s_{p+1} < kStrainLimitBlendGap (pair p = 0: axes
-// 0 and 1; p = 1: axes 1 and 2). There the larger of the pair is a cone in F, s_p = max of
+// principal stretches nearly meet, s_p - s_{p+1} < spec.pair_cut_gap (at most
+// kStrainLimitBlendGap; pair p = 0: axes 0 and 1; p = 1: axes 1 and 2). There the larger of the pair is a cone in F, s_p = max of
 // |F w| over unit w in the pair's plane, and each linearisation of its stretch row
 // under-predicts it by about move^2 / gap (docs/ARCHITECTURE.md, "Why the pressed finger
 // never settles"); the smaller, a min, is over-predicted, which its compress rows miss. The
@@ -125,9 +129,6 @@ constexpr int kStrainCutFirst = 18;
 constexpr int kStrainRowIndexCount = 42;
 constexpr int strain_cut_index(int p, int j, int side, int sign) { return kStrainCutFirst + 12 * p + 4 * j + 2 * side + sign; }
 using StrainRowMask = uint64_t;  // bit k: row index k
-
-constexpr double kStrainLimitGapTolerance = 1e-3;
-constexpr double kStrainLimitBlendGap = 0.02;
 
 using Vec12 = Eigen::Matrix<double, 12, 1>;
 using Mat43 = Eigen::Matrix<double, 4, 3>;

@@ -28,6 +28,7 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc) {
 // add_strain_limit_rows' kept storage (kept_storage.hpp).
 struct StrainRowBuffers {
   std::vector<double> worst;
+  std::vector<double> cut_gaps;  // per element, its spec's pair_cut_gap (empty: the default)
   std::vector<RotationVariantSvd> svds;
   std::vector<StrainLimitValues> values;
   std::vector<std::pair<int, StrainRowMask>> kept;
@@ -45,11 +46,25 @@ bool is_limited(const Model& model, int e) {
   return model.element_type[e] == ElementType::Tet4 && model.bodies[model.element_body[e]].strain_limit.enabled;
 }
 
-// The limits of tet e: its body's, in the tet's material frame.
-StrainLimitSpec tet_spec(const Model& model, int e) {
+// The limits of tet e: its body's, in the tet's material frame, with its pair cuts' gap.
+StrainLimitSpec tet_spec(const Model& model, int e, const std::vector<double>* cut_gaps = nullptr) {
   StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
   spec.frame = model.element_strain_frame[e];
+  if (cut_gaps && !cut_gaps->empty()) spec.pair_cut_gap = (*cut_gaps)[e];
   return spec;
+}
+
+// The gap under which tet e's pairs get their cuts (strain_limit_rows.hpp): 4 delta^2 /
+// tolerance, delta the strain change of the step at its start velocities.
+double pair_cut_gap(const Model& model, const VecX& v_start, int e) {
+  const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
+  Mat3 dF = Mat3::Zero();
+  for (int a = 0; a < 4; ++a) {
+    const int f = model.free_index[model.element_nodes[e][a]];
+    if (f >= 0) dF += v_start.segment<3>(3 * f) * dN_dX.row(a);
+  }
+  const double delta = model.h * dF.norm();
+  return 4 * delta * delta / model.solver.strain_tolerance;
 }
 
 Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
@@ -61,6 +76,7 @@ Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
 // build) into `buffers`.
 const std::vector<double>& worst_per_element(const Model& model, const VecX& x, std::vector<double>& worst,
                                              StrainRowBuffers* buffers = nullptr) {
+  const std::vector<double>* cut_gaps = buffers ? &buffers->cut_gaps : nullptr;
   worst.assign(model.num_elements, -1e300);
   if (buffers) {
     buffers->svds.resize(model.num_elements);
@@ -77,7 +93,7 @@ const std::vector<double>& worst_per_element(const Model& model, const VecX& x, 
       compute_rotation_variant_svds(F, svds, count);
       for (int k = 0; k < count; ++k) {
         const int e = tets[k];
-        const StrainLimitValues values = compute_strain_limit_values(tet_spec(model, e), svds[k]);
+        const StrainLimitValues values = compute_strain_limit_values(tet_spec(model, e, cut_gaps), svds[k]);
         worst[e] = worst_strain_violation(values);
         if (buffers) buffers->svds[e] = svds[k], buffers->values[e] = values;
       }
@@ -117,12 +133,20 @@ double overall(const Model& model, const std::vector<double>& worst) {
 
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,
-                             KeptStorage<StrainRowBuffers>* storage, StrainJacobians jacobians) {
+                             KeptStorage<StrainRowBuffers>* storage, StrainJacobians jacobians,
+                             const VecX* v_start) {
   if (!model.has_strain_limits) return -1;
   // Deferred: the completion must find this build's buffers, whichever thread it runs on.
   assert(jacobians == StrainJacobians::Now || storage);
   StrainRowBuffers& buffers = kept_or_thread_local(storage);
   buffers.deferred_first_row = -1;
+  buffers.cut_gaps.clear();
+  if (v_start && v_start->size() == 3 * model.num_free) {
+    buffers.cut_gaps.resize(model.num_elements);
+    tbb::parallel_for(0, model.num_elements, [&](int e) {
+      buffers.cut_gaps[e] = is_limited(model, e) ? pair_cut_gap(model, *v_start, e) : 0.0;
+    });
+  }
   const std::vector<RotationVariantSvd>& svds = buffers.svds;
   const std::vector<double>& worst = worst_per_element(model, x, buffers.worst, &buffers);
   // Kept constraints per tet, as bit masks over the constraint index k.
@@ -157,7 +181,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
       rows_without_jacobians(buffers.values[e], margin, masks[i], found[i]);
       return;
     }
-    const StrainLimitSpec spec = tet_spec(model, e);
+    const StrainLimitSpec spec = tet_spec(model, e, &buffers.cut_gaps);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
     evaluate_strain_limit_rows(spec, svds[e], dN_dX, margin, masks[i], found[i]);  // a candidate has rows
   });
@@ -187,7 +211,7 @@ void complete_strain_limit_jacobians(const Model& model, RowTable& rows, KeptSto
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
     const int e = candidates[i];
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    evaluate_strain_limit_rows(tet_spec(model, e), buffers.svds[e], dN_dX, buffers.deferred_margin, buffers.masks[i],
+    evaluate_strain_limit_rows(tet_spec(model, e, &buffers.cut_gaps), buffers.svds[e], dN_dX, buffers.deferred_margin, buffers.masks[i],
                                found[i]);
   });
   int r_index = buffers.deferred_first_row;

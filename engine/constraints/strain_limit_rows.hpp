@@ -20,11 +20,20 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
 // Deferred (with a `storage`): the rows' Jacobians are left zero until
 // complete_strain_limit_jacobians (a line-search trial needs the values alone, and most
 // trials are not linearised at).
+// `v_start` (3 per free node; with a storage): the step's start velocities, which gate
+// each tet's pair cuts (strain_limit.hpp) by the strain change they make over the step,
+// delta = h |sum_a v_a dN_a^T|: a linearisation misses a near-equal pair's largest
+// stretch by ~delta^2 / gap, so a pair gets its cuts only where that could reach a quarter
+// of solver.strain_tolerance, gap < 4 delta^2 / tolerance. A body at rest has none: there
+// the cuts only make the LCP degenerate (their gradients and the pair's rows are dependent
+// where the stretches meet) and PGS slower (the side-pressed finger at rest kept ~8, and
+// 3-17 sweeps a step instead of 1). Null: cuts wherever a pair is within
+// kStrainLimitBlendGap.
 enum class StrainJacobians { Now, Deferred };
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,
                              KeptStorage<StrainRowBuffers>* storage = nullptr,
-                             StrainJacobians jacobians = StrainJacobians::Now);
+                             StrainJacobians jacobians = StrainJacobians::Now, const VecX* v_start = nullptr);
 
 // Sets the Jacobians that the last add_strain_limit_rows with this storage left zero, if it
 // was deferred (from that build's SVDs: `rows` must hold that build's rows where it put
