@@ -4,7 +4,7 @@
 // nodes), W = Jc T. Projected Gauss-Seidel (lcp_pgs.hpp) needs W's diagonal, w = W lambda + c
 // and its update when one lambda_i changes, which this provides in the cheaper of two forms:
 // - dense (m <= 3k): W formed once (m^2 x stencil), w kept and updated by a column of W (m);
-// - factored (m > 3k, e.g. strain limits: up to 18 rows per tet on 3 DOFs per node):
+// - factored (m > 3k, e.g. strain limits: up to 18 rows per tet, 42 with the pair cuts on 3 DOFs per node):
 //   u = T lambda kept (3k), w_i = c_i + Jc_i u over the row's stencil, update by a column
 //   of T (3k). No m x m matrix at all, and a column of T only for the rows whose multiplier
 //   is or becomes non-zero (W_ii from G's blocks on the stencil).

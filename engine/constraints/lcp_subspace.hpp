@@ -5,7 +5,7 @@
 //
 // PGS finds which rows sit on a bound within a few sweeps, but converges on the others at a
 // rate set by W's conditioning: slow for strain limits, whose rows on neighbouring tets
-// share nodes (up to 18 rows on a tet's 12 DOFs, so W is singular and its non-zero
+// share nodes (up to 18 rows on a tet's 12 DOFs, 42 with the pair cuts, so W is singular and its non-zero
 // spectrum wide). A subspace step takes the rows strictly inside fixed bounds (strain and
 // contact normal rows with lambda > 0, energy rows; friction rows keep theirs, as their box
 // follows the normal's lambda) as the free set F, the other multipliers held, and solves

@@ -122,7 +122,8 @@ constexpr int strain_limit_index(int i, int j, int side) { return 6 * i + 2 * j 
 // with the pair's own rows the cuts sample the plane every 45 degrees, so a QP step can no
 // longer turn the stretch to a direction its rows do not see. Jacobian (w held):
 //   dC/dF = -+((|F w| - 1) da/dF + a n w^T),  n = F w / |F w|  (- stretch, + compress),
-// da/dF as in the rows' blended cosine. No curvature block (strain_limit_curvature.hpp).
+// da/dF as in the rows' blended cosine. No curvature block (strain_limit_curvature.hpp:
+// Gauss-Newton for the cuts).
 // Index k = 18 + 12 p + 4 j + 2 side + sign (side 0 compress, 1 stretch; sign 0: w with +,
 // 1: with -): 42 indices in all, bit masks of 64 bits.
 constexpr int kStrainCutFirst = 18;

@@ -68,7 +68,7 @@ void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F_given, con
   const Mat3 F = separated_singular_values(F_given);
   StrainRowMask wanted = 0;
   // A cut (strain_limit.hpp) holds a direction fixed in the material, which its own row at
-  // a probe would not: its block is left 0 (the cuts are nearly flat in F).
+  // a probe would not: its block is left 0 (Gauss-Newton for the cuts).
   for (int r = 0; r < rows.count; ++r)
     if (rows.row[r].index < kStrainCutFirst) wanted |= StrainRowMask{1} << rows.row[r].index;
   const Mat43 unused = Mat43::Zero();  // only dC/dF is read

@@ -50,7 +50,8 @@ Mat12 compute_isotropic_strain_limit_curvature(const RotationVariantSvd& svd, in
 // d2C_k/dF2 (9 x 9 over vec(F), column-major) of every row in `rows` (evaluated at F, any
 // mode), by forward differences of dC/dF, stretches kept apart as above; symmetrised. A
 // pair cut's (strain_limit.hpp) is 0: it holds a direction fixed in the material, which
-// the probes' own SVDs would turn, and |F w| along it is nearly flat in F.
+// the probes' own SVDs would turn. (Its Hessian, a (I - n n^T) / |F w| on w, is of the order
+// of a well-separated row's; left out, the cuts are treated by Gauss-Newton.)
 void strain_limit_hessians(const StrainLimitSpec& spec, const Mat3& F, const StrainLimitRows& rows,
                            std::array<Mat9, kStrainRowIndexCount>& hessians);
 

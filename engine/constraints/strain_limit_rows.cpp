@@ -55,7 +55,8 @@ StrainLimitSpec tet_spec(const Model& model, int e, const std::vector<double>* c
 }
 
 // The gap under which tet e's pairs get their cuts (strain_limit_rows.hpp): 4 delta^2 /
-// tolerance, delta the strain change of the step at its start velocities.
+// tolerance, delta = h |L| for the velocity gradient L at the step's start velocities
+// (kinematic nodes count as still).
 double pair_cut_gap(const Model& model, const VecX& v_start, int e) {
   const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
   Mat3 dF = Mat3::Zero();
@@ -246,8 +247,8 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
   int blocks = static_cast<int>(rows.curvature_blocks.size());
   for (int i = 0; i < rows.size(); ++i) {
     if (rows.kind[i] != RowKind::Strain || rows.lambda[i] <= 0 || rows.curvature_block[i] >= 0) continue;
-    // A cut is |F w| along a fixed w, nearly flat in F: no curvature (its blended cosine's
-    // is left out with it).
+    // A cut: no curvature block (strain_limit_curvature.hpp; its Hessian, a (I - n n^T) / t
+    // on w, is of the order of a well-separated row's, left to Gauss-Newton).
     if (row_key_second(rows.key[i]) >= kStrainCutFirst) continue;
     const int e = rows.element[i];
     if (tets.empty() || tets.back().element != e) tets.push_back({e, blocks, {}});
@@ -260,7 +261,7 @@ void add_strain_limit_curvatures(const Model& model, const VecX& x, RowTable& ro
     const int e = tets[t].element;
     const StrainLimitSpec spec = tet_spec(model, e);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    std::array<Mat12, kStrainRowIndexCount> out;  // 35 KB on the task's stack
+    std::array<Mat12, kStrainRowIndexCount> out;  // 47 KB on the task's stack
     compute_strain_limit_curvatures(spec, tet_deformation_gradient(model, x, e), dN_dX, tets[t].wanted, out);
     for (int r = 0; r < tets[t].wanted.count; ++r) rows.curvature_blocks[tets[t].first_block + r] = out[r];
   });

@@ -3,7 +3,7 @@
 // constraint rows touch (E selects their 3 DOFs each). Every Delassus product the
 // constraint solve needs is J H^-1 J^T = Jc G Jc^T with Jc the rows' Jacobians on those
 // nodes, so H^-1 is needed on 3 columns per touched node, not one column per row: the
-// rows of strain limits (up to 18 per tet), of contacts embedded in the same element and
+// rows of strain limits (up to 18 per tet, 42 with the pair cuts), of contacts embedded in the same element and
 // their friction rows all share node columns. Columns are kept for the life of one
 // factorisation of H, whatever the rows' Jacobians do across SQP iterations; a node
 // touched for the first time costs 3 solves.

@@ -90,3 +90,56 @@ TEST_CASE("strain rows: deferred Jacobians, completed, equal the immediate build
   complete_strain_limit_jacobians(model, deferred, &storage);
   CHECK(deferred.jac[deferred.begin[1]] == Vec3::Zero());
 }
+
+TEST_CASE("strain rows: pair cuts gated by the step's start velocities, deferred or not") {
+  // strain_limit_rows.hpp: a pair gets its cuts where gap < 4 delta^2 / tolerance, delta = h
+  // |L| for the velocity gradient L. Every constraint is asked for (margin +inf),
+  // so without a gate every pair within kStrainLimitBlendGap has its cuts.
+  const std::unique_ptr<World> bar = stretched_bar();
+  const Model& model = bar->model();
+  const VecX& x = bar->state().x;
+  const double all = std::numeric_limits<double>::infinity();
+  const auto cuts_in = [](const RowTable& rows) {
+    int n = 0;
+    for (int i = 0; i < rows.size(); ++i) n += row_key_second(rows.key[i]) >= kStrainCutFirst;
+    return n;
+  };
+  // Start velocities on the free nodes from a velocity gradient L: v = L (x - c).
+  const auto flow = [&](const Mat3& L) {
+    VecX v = VecX::Zero(3 * model.num_free);
+    for (int n = 0; n < model.num_nodes; ++n)
+      if (const int f = model.free_index[n]; f >= 0) v.segment<3>(3 * f) = L * x.segment<3>(3 * n);
+    return v;
+  };
+  Mat3 shear = Mat3::Zero(), slow = Mat3::Zero();
+  shear(0, 1) = shear(1, 0) = 1.0;  // 1/s: 4 (h sqrt2)^2 / 1e-3 = 3.2, far above the blend gap
+  slow(0, 1) = slow(1, 0) = 1e-3;   // 4 (h sqrt2 1e-3)^2 / 1e-3 = 3.2e-6: only pairs that close
+  RowTable ungated, still, sheared, crept;
+  add_strain_limit_rows(model, x, all, {}, ungated);
+  KeptStorage<StrainRowBuffers> storage;
+  const VecX v_still = flow(Mat3::Zero()), v_shear = flow(shear), v_slow = flow(slow);
+  add_strain_limit_rows(model, x, all, {}, still, &storage, StrainJacobians::Now, &v_still);
+  add_strain_limit_rows(model, x, all, {}, sheared, &storage, StrainJacobians::Now, &v_shear);
+  add_strain_limit_rows(model, x, all, {}, crept, &storage, StrainJacobians::Now, &v_slow);
+  MESSAGE("cut rows: ungated " << cuts_in(ungated) << ", still " << cuts_in(still) << ", sheared "
+                               << cuts_in(sheared) << ", sheared 1000 times slower " << cuts_in(crept));
+  REQUIRE(cuts_in(ungated) > 0);
+  CHECK(cuts_in(still) == 0);
+  CHECK(still.size() == ungated.size() - cuts_in(ungated));  // the paper's rows are all there
+  CHECK(cuts_in(sheared) == cuts_in(ungated));
+  CHECK(cuts_in(crept) < cuts_in(sheared) / 10);  // only pairs within 3.2e-6 of each other
+
+  // Deferred and completed with the same gate: the immediate table, bit for bit.
+  RowTable deferred;
+  add_strain_limit_rows(model, x, all, {}, deferred, &storage, StrainJacobians::Deferred, &v_shear);
+  complete_strain_limit_jacobians(model, deferred, &storage);
+  REQUIRE(deferred.size() == sheared.size());
+  int differing = 0;
+  for (int i = 0; i < sheared.size(); ++i) {
+    REQUIRE(deferred.key[i] == sheared.key[i]);
+    differing += !same_bits(deferred.value[i], sheared.value[i]);
+    for (int k = sheared.begin[i]; k < sheared.begin[i + 1]; ++k)
+      for (int c = 0; c < 3; ++c) differing += !same_bits(deferred.jac[k][c], sheared.jac[k][c]);
+  }
+  CHECK(differing == 0);
+}
