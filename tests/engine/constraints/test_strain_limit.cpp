@@ -7,6 +7,7 @@
 #include <random>
 #include <string>
 
+#include "tests/support/random_rotation.hpp"
 #include "engine/constraints/strain_limit.hpp"
 
 using namespace sinew;
@@ -29,11 +30,6 @@ const char* mode_name(StrainLimitMode m) {
       return "isotropic";
   }
   return "";
-}
-
-Mat3 random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0, 1);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
 }
 
 // A rest tet: nodes X_0..X_3, and the gradients of its shape functions (row a: dN_a/dX), from
@@ -106,8 +102,8 @@ TEST_CASE("strain limit: every mode's Jacobian equals finite differences of its 
   for (StrainLimitMode mode : kModes) {
     spec.mode = mode;
     for (const Vec3& s : stretches) {
-      spec.frame = random_rotation(rng);
-      const Mat3 F = random_rotation(rng) * s.asDiagonal() * random_rotation(rng).transpose();
+      spec.frame = test::random_rotation(rng);
+      const Mat3 F = test::random_rotation(rng) * s.asDiagonal() * test::random_rotation(rng).transpose();
       const auto x = tet.deformed(F);
       StrainLimitRows rows;
       evaluate_strain_limit(spec, tet.F_of(x), tet.dN_dX, kInf, 0, rows);
@@ -145,7 +141,7 @@ TEST_CASE("strain limit: a free axis produces no constraint; no limits, no rows"
   Tet tet;
   std::mt19937 rng(4);
   const Mat3 F =
-      random_rotation(rng) * Vec3(1.2, 1.0, 0.9).asDiagonal() * random_rotation(rng).transpose();
+      test::random_rotation(rng) * Vec3(1.2, 1.0, 0.9).asDiagonal() * test::random_rotation(rng).transpose();
   StrainLimitSpec spec;  // defaults: smin = 0, smax = +inf on every axis: all free
   for (StrainLimitMode mode : kModes) {
     spec.mode = mode;
@@ -219,9 +215,9 @@ TEST_CASE("strain limit: the projected limits match the constraints' signs") {
   for (StrainLimitMode mode : kModes) {
     spec.mode = mode;
     for (int trial = 0; trial < 200; ++trial) {
-      spec.frame = random_rotation(rng);
-      const Mat3 F = random_rotation(rng) * Vec3(u(rng), u(rng), u(rng)).asDiagonal() *
-                     random_rotation(rng).transpose();
+      spec.frame = test::random_rotation(rng);
+      const Mat3 F = test::random_rotation(rng) * Vec3(u(rng), u(rng), u(rng)).asDiagonal() *
+                     test::random_rotation(rng).transpose();
       const RotationVariantSvd svd = compute_rotation_variant_svd(F);
       const ProjectedStrainLimits lim = compute_projected_strain_limits(spec, svd);
       const bool inside =
@@ -238,12 +234,12 @@ TEST_CASE("strain limit: isotropic limits are rotation-invariant") {
   spec.smin = Vec3::Constant(0.96);
   spec.smax = Vec3::Constant(1.04);
   const Mat3 F =
-      random_rotation(rng) * Vec3(1.07, 1.0, 0.93).asDiagonal() * random_rotation(rng).transpose();
+      test::random_rotation(rng) * Vec3(1.07, 1.0, 0.93).asDiagonal() * test::random_rotation(rng).transpose();
   const StrainLimitValues base = values(spec, F);
   for (int trial = 0; trial < 10; ++trial) {
     StrainLimitSpec turned = spec;
-    turned.frame = random_rotation(rng);  // unused by the isotropic mode
-    const Mat3 G = random_rotation(rng) * F * random_rotation(rng).transpose();
+    turned.frame = test::random_rotation(rng);  // unused by the isotropic mode
+    const Mat3 G = test::random_rotation(rng) * F * test::random_rotation(rng).transpose();
     const StrainLimitValues v = values(turned, G);
     REQUIRE(v.present == base.present);
     for (int k = 0; k < kStrainLimitCount; ++k)
@@ -260,12 +256,12 @@ TEST_CASE("strain limit: material-frame limits follow the material") {
   spec.smax = Vec3(1.05, kInf, 1.25);
   for (StrainLimitMode mode : kModes) {
     spec.mode = mode;
-    spec.frame = random_rotation(rng);
+    spec.frame = test::random_rotation(rng);
     const Mat3 F =
-        random_rotation(rng) * Vec3(1.1, 0.98, 0.8).asDiagonal() * random_rotation(rng).transpose();
+        test::random_rotation(rng) * Vec3(1.1, 0.98, 0.8).asDiagonal() * test::random_rotation(rng).transpose();
     const StrainLimitValues base = values(spec, F);
     for (int trial = 0; trial < 5; ++trial) {
-      const Mat3 Q = random_rotation(rng), R = random_rotation(rng);
+      const Mat3 Q = test::random_rotation(rng), R = test::random_rotation(rng);
       StrainLimitSpec turned = spec;
       turned.frame = Q * spec.frame;
       const StrainLimitValues v = values(turned, R * F * Q.transpose());
@@ -358,9 +354,9 @@ TEST_CASE("strain limit: only near-active rows, plus the kept ones, are returned
   spec.smin = Vec3(0.9, 0.8, 0.95);
   spec.smax = Vec3(1.1, 1.3, 1.05);
   std::mt19937 rng(2);
-  spec.frame = random_rotation(rng);
+  spec.frame = test::random_rotation(rng);
   const Mat3 F =
-      random_rotation(rng) * Vec3(1.08, 1.0, 0.93).asDiagonal() * random_rotation(rng).transpose();
+      test::random_rotation(rng) * Vec3(1.08, 1.0, 0.93).asDiagonal() * test::random_rotation(rng).transpose();
   const StrainLimitValues v = values(spec, F);
   const double margin = 0.02;
   const StrainRowMask keep = StrainRowMask{1} << strain_limit_index(1, 1, 1);
@@ -388,7 +384,7 @@ TEST_CASE("strain limit: rows stay finite at rest, at repeated and at zero singu
   // At rest the hyperbolic Jacobian has q = (s_i - 1) sign = 0: exactly a_ij u_i v_i^T.
   Tet tet;
   std::mt19937 rng(6);
-  const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+  const Mat3 Q1 = test::random_rotation(rng), Q2 = test::random_rotation(rng);
   const Mat3 cases[] = {
       Mat3::Identity(),
       Q1 * Vec3(1.03, 1.03, 0.98).asDiagonal() * Q2.transpose(),
@@ -401,7 +397,7 @@ TEST_CASE("strain limit: rows stay finite at rest, at repeated and at zero singu
   StrainLimitSpec spec;
   spec.smin = Vec3(0.95, 0.75, 0.98);
   spec.smax = Vec3(1.05, 1.25, 1.02);
-  spec.frame = random_rotation(rng);
+  spec.frame = test::random_rotation(rng);
   const double eps = kStrainLimitGapTolerance * 1.03;
   for (StrainLimitMode mode : kModes) {
     spec.mode = mode;
@@ -456,7 +452,7 @@ TEST_CASE("strain limit: hyperbolic limits are continuous where principal stretc
   StrainLimitSpec spec;
   spec.smin = Vec3(0.95, 0.75, 0.98);
   spec.smax = Vec3(1.05, 1.25, 1.02);
-  const Mat3 R = random_rotation(rng);
+  const Mat3 R = test::random_rotation(rng);
   // Rest axes: m_0 alone (stretch 0.99), the plane of m_1 and m_2 (stretch 1.027).
   const Mat3 F = R * (0.99 * Vec3::UnitX() * Vec3::UnitX().transpose() +
                       1.027 * (Mat3::Identity() - Vec3::UnitX() * Vec3::UnitX().transpose()));
@@ -491,7 +487,7 @@ TEST_CASE("strain limit: the values alone equal the rows' values bit for bit, in
   for (int trial = 0; trial < 400; ++trial) {
     StrainLimitSpec spec;
     spec.mode = kModes[trial % 4];
-    spec.frame = trial % 3 == 0 ? Mat3::Identity() : random_rotation(rng);
+    spec.frame = trial % 3 == 0 ? Mat3::Identity() : test::random_rotation(rng);
     spec.smin = Vec3(0.95, trial % 5 == 0 ? 0.0 : 0.75, 0.98);
     spec.smax = Vec3(1.05, 1.25, trial % 7 == 0 ? kInf : 1.02);
     // Stretches up to ~5 % apart, and every fourth trial two of them within the 2 % blend gap.
@@ -504,7 +500,7 @@ TEST_CASE("strain limit: the values alone equal the rows' values bit for bit, in
       spec.frame = Mat3::Identity();
       s = Vec3(1.1, 1.0, 0.9);
     }
-    const Mat3 F = aligned ? Mat3(s.asDiagonal()) : Mat3(random_rotation(rng) * s.asDiagonal() * random_rotation(rng));
+    const Mat3 F = aligned ? Mat3(s.asDiagonal()) : Mat3(test::random_rotation(rng) * s.asDiagonal() * test::random_rotation(rng));
     const RotationVariantSvd svd = compute_rotation_variant_svd(F);
     const StrainLimitValues v = compute_strain_limit_values(spec, svd);
     StrainLimitRows rows;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <random>
 
+#include "tests/support/random_rotation.hpp"
 #include "engine/constraints/strain_limit_curvature.hpp"
 #include "tests/support/dense_decompositions.hpp"
 
@@ -19,11 +20,6 @@ using namespace sinew;
 namespace {
 
 const double kInf = std::numeric_limits<double>::infinity();
-
-Mat3 random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0, 1);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
 
 double value(const StrainLimitSpec& spec, const Mat3& F, int k) {
   const StrainLimitValues v = compute_strain_limit_values(spec, compute_rotation_variant_svd(F));
@@ -73,8 +69,8 @@ TEST_CASE("strain limit curvature: the Hessian in F equals second differences of
   for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal, StrainLimitMode::Linear}) {
     spec.mode = mode;
     for (const Vec3& s : stretches) {
-      spec.frame = random_rotation(rng);
-      const Mat3 F = random_rotation(rng) * s.asDiagonal() * random_rotation(rng).transpose();
+      spec.frame = test::random_rotation(rng);
+      const Mat3 F = test::random_rotation(rng) * s.asDiagonal() * test::random_rotation(rng).transpose();
       StrainLimitRows rows;
       evaluate_strain_limit(spec, F, Mat43::Zero(), kInf, 0, rows);
       REQUIRE(rows.count > 0);
@@ -110,8 +106,8 @@ TEST_CASE("strain limit curvature: blocks are the positive part of -d2C/dF2 in x
   StrainLimitSpec spec;
   spec.smin = Vec3(0.95, 0.75, 0.98);
   spec.smax = Vec3(1.05, 1.25, 1.02);
-  spec.frame = random_rotation(rng);
-  const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+  spec.frame = test::random_rotation(rng);
+  const Mat3 Q1 = test::random_rotation(rng), Q2 = test::random_rotation(rng);
   const Mat3 cases[] = {Q1 * Vec3(1.2, 1.0, 0.9).asDiagonal() * Q2.transpose(),
                         Q1 * Vec3(1.03, 1.03, 0.98).asDiagonal() * Q2.transpose(), Mat3::Identity(),
                         Q1 * Vec3(1.0, 0.0, 0.0).asDiagonal() * Q2.transpose(), Mat3::Zero()};
@@ -186,8 +182,8 @@ TEST_CASE("strain limit curvature: bounded as two stretches meet, whichever side
   for (StrainLimitMode mode : {StrainLimitMode::Hyperbolic, StrainLimitMode::Orthogonal, StrainLimitMode::Linear}) {
     spec.mode = mode;
     for (int trial = 0; trial < 3; ++trial) {
-      spec.frame = random_rotation(rng);
-      const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+      spec.frame = test::random_rotation(rng);
+      const Mat3 Q1 = test::random_rotation(rng), Q2 = test::random_rotation(rng);
       double reference = 0;
       for (int b = 0; b < 64; ++b) {
         const Mat3 R = in_plane(M_PI * b / 64);

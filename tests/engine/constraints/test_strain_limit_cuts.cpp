@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 
+#include "tests/support/random_rotation.hpp"
 #include "engine/constraints/strain_limit.hpp"
 
 using namespace sinew;
@@ -15,11 +16,6 @@ using namespace sinew;
 namespace {
 
 const double kNoLimit = std::numeric_limits<double>::infinity();
-
-Mat3 cuts_random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0, 1);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
 
 // A rest tet's shape-function gradients (row a: dN_a/dX) and node positions under F.
 struct CutTet {
@@ -66,8 +62,8 @@ TEST_CASE("pair cuts: present exactly where two stretches are within the blend g
   int cuts_seen = 0;
   for (const Vec3& s : stretches) {
     for (int trial = 0; trial < 4; ++trial) {
-      spec.frame = cuts_random_rotation(rng);
-      const Mat3 F = cuts_random_rotation(rng) * s.asDiagonal() * cuts_random_rotation(rng).transpose();
+      spec.frame = test::random_rotation(rng);
+      const Mat3 F = test::random_rotation(rng) * s.asDiagonal() * test::random_rotation(rng).transpose();
       const RotationVariantSvd svd = compute_rotation_variant_svd(F);
       const StrainLimitValues v = compute_strain_limit_values(spec, svd);
       for (int k = kStrainCutFirst; k < kStrainRowIndexCount; ++k) {
@@ -110,8 +106,8 @@ TEST_CASE("pair cuts: each row's Jacobian equals finite differences of its cut w
                             Vec3(1.06, 1.045, 0.93)};
   int rows_seen = 0;
   for (const Vec3& s : stretches) {
-    spec.frame = cuts_random_rotation(rng);
-    const Mat3 F = cuts_random_rotation(rng) * s.asDiagonal() * cuts_random_rotation(rng).transpose();
+    spec.frame = test::random_rotation(rng);
+    const Mat3 F = test::random_rotation(rng) * s.asDiagonal() * test::random_rotation(rng).transpose();
     std::array<Vec3, 4> x;
     for (int a = 0; a < 4; ++a) x[a] = F * tet.X[a];
     const RotationVariantSvd svd = compute_rotation_variant_svd(tet.F_of(x));

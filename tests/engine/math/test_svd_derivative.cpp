@@ -4,16 +4,12 @@
 #include <cmath>
 #include <random>
 
+#include "tests/support/random_rotation.hpp"
 #include "engine/math/svd_derivative.hpp"
 
 using namespace sinew;
 
 namespace {
-
-Mat3 random_rotation(std::mt19937& rng) {
-  std::normal_distribution<double> n(0, 1);
-  return Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized().toRotationMatrix();
-}
 
 // The SVD of G with each (u_k, v_k) pair's sign matched to `ref`, so that finite differences
 // follow one smooth branch (Jacobi may flip a pair between nearby matrices).
@@ -61,7 +57,7 @@ Mat3 random_separated(std::mt19937& rng, bool inverted) {
     std::sort(s.data(), s.data() + 3, [](double a, double b) { return a > b; });
   } while (s(0) - s(1) < 0.1 || s(1) - s(2) < 0.1);
   if (inverted) s(2) = -s(2);
-  return random_rotation(rng) * s.asDiagonal() * random_rotation(rng).transpose();
+  return test::random_rotation(rng) * s.asDiagonal() * test::random_rotation(rng).transpose();
 }
 
 }  // namespace
@@ -86,7 +82,7 @@ TEST_CASE("SVD derivative: a single zero singular value is not a repeated one") 
   // flattened element has exact derivatives.
   std::mt19937 rng(3);
   const Mat3 F =
-      random_rotation(rng) * Vec3(1.7, 0.8, 0.0).asDiagonal() * random_rotation(rng).transpose();
+      test::random_rotation(rng) * Vec3(1.7, 0.8, 0.0).asDiagonal() * test::random_rotation(rng).transpose();
   const double error = fd_error(F, 1e-4);
   MESSAGE("relative error with S(2) = 0: " << error);
   CHECK(error < 1e-6);
@@ -130,7 +126,7 @@ TEST_CASE("SVD derivative: repeated and zero singular values give finite, bounde
   // <= 2 / eps for a unit dF = e_r e_c^T (|A| entries <= 1), and the rotation part of dF
   // (antisymmetric A) is still exact wherever s_k + s_l >= eps.
   std::mt19937 rng(9);
-  const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+  const Mat3 Q1 = test::random_rotation(rng), Q2 = test::random_rotation(rng);
   const Mat3 cases[] = {
       Mat3::Identity(),                                                // triple repeat
       Q1 * Vec3(1.3, 1.3, 0.7).asDiagonal() * Q2.transpose(),          // repeated pair
@@ -172,7 +168,7 @@ TEST_CASE("SVD derivative: repeated and zero singular values give finite, bounde
 TEST_CASE("SVD derivative: the clamp is continuous and saturates as two values meet") {
   // |Omega| grows like 1 / gap until gap = eps, then stays at its value for gap = eps.
   std::mt19937 rng(21);
-  const Mat3 Q1 = random_rotation(rng), Q2 = random_rotation(rng);
+  const Mat3 Q1 = test::random_rotation(rng), Q2 = test::random_rotation(rng);
   const double tol = 1e-4;
   auto coupling = [&](double gap) {
     const Mat3 F = Q1 * Vec3(1.0 + gap, 1.0, 0.5).asDiagonal() * Q2.transpose();
