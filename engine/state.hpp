@@ -40,6 +40,7 @@ struct StepScratch {
                           // W~ lambda_0 and lambda_0 (solve_constraints)
   std::vector<uint64_t> keep;
   RowTable contact_rows;  // build_rows: contacts, built beside the limits' rows and appended to them
+  std::vector<double> strain_cut_gaps;  // per element, the step's pair-cut gate (strain_pair_cut_gaps)
   // The row builders' buffers (kept_storage.hpp): theirs, not thread_local, as build_rows
   // runs them as tasks on whichever thread is free.
   KeptStorage<EnergyRowBuffers> energy_row_buffers;

@@ -192,7 +192,10 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
   std::printf("  constraint rows median %.0f max %.0f, SQP iterations median %.0f", quantile(rows, 0.5),
               quantile(rows, 1.0), quantile(sqp, 0.5));
   if (quantile(tets, 1.0) > 0) std::printf(", constrained tets median %.0f", quantile(tets, 0.5));
-  std::printf("\n");
+  // The end state's hash: an optimisation meant to leave results alone must leave it alone.
+  char hash_text[17];
+  std::snprintf(hash_text, sizeof hash_text, "%016llx", static_cast<unsigned long long>(first_hash));
+  std::printf(", end state %s\n", hash_text);
   if (repeat > 1) {
     std::printf("  step median of each of %d repeats:", repeat);
     for (const double m : repeat_medians) std::printf(" %.4f", m);
@@ -218,7 +221,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
           {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"stale_factor_precision", scene.solver.stale_factor_precision}, {"hessian_reuse_tolerance", scene.solver.hessian_reuse_tolerance}, {"pair_cuts", set.pair_cuts.empty() ? "scene's" : set.pair_cuts}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
           {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world->state().x.allFinite()},
           {"repeats", repeat}, {"step_median_per_repeat", repeat_medians},
-          {"step_median_of_repeats", quantile(repeat_medians, 0.5)}, {"repeats_identical", identical},
+          {"step_median_of_repeats", quantile(repeat_medians, 0.5)}, {"repeats_identical", identical}, {"end_state_hash", hash_text},
           {"sleeping", bench.sleeping},
           {"stages", stages}};
 }

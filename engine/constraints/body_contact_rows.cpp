@@ -50,6 +50,7 @@ struct BodyContactRowBuffers {
   std::vector<Aabb> bounds;
   std::vector<char> refitted;
   std::vector<int> candidates;
+  std::vector<uint64_t> candidate_marks;  // gather_candidates' scratch
   std::vector<body_contact_detail::SurfaceProbe> probes;
   body_contact_detail::RowStencil stencil;
 };
@@ -123,7 +124,7 @@ ContactRowsResult add_body_contact_rows(const Model& model, const VecX& x, const
       } query{bounds[b], margin};
       const auto near = [q = &query](const Aabb& box) { return box_distance(box, q->bounds) < q->margin; };
       gather_candidates(x, body_a, near, search == ContactSearch::BruteForce, first_vertex[a], partner, keep,
-                        candidates);
+                        buffers.candidate_marks, candidates);
       if (candidates.empty()) continue;
       if (!refitted[b]) deformed_surface(model, b, x, surfaces);
       refitted[b] = 1;

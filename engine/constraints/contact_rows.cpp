@@ -44,7 +44,9 @@ struct Probe {
 struct ContactRowBuffers {
   std::vector<int> candidates;
   std::vector<contact_rows_detail::Probe> probes, representatives;
-  std::vector<std::pair<uint32_t, int>> order;  // (site, probe index)
+  std::vector<uint64_t> candidate_marks;  // gather_candidates' scratch
+  std::vector<int> site_best;  // per contact site, its deepest probe so far (-1: none)
+  std::vector<uint32_t> sites;  // per probe, its contact site
 };
 
 namespace {
@@ -100,34 +102,40 @@ uint32_t contact_site(const Body& body, int vertex) {
   return static_cast<uint32_t>(8 * body.embedding.cell[vertex] + cell_octant(body, vertex));
 }
 
+// The number of contact sites of a body: the range of contact_site.
+size_t contact_site_count(const Body& body) {
+  return body.element_type == ElementType::Tet4 ? static_cast<size_t>(body.num_nodes())
+                                                : 8 * static_cast<size_t>(body.num_elements());
+}
+
 // The probes that get rows: per site (cell, octant) the deepest vertex (ties: the lowest
 // index), plus every vertex whose row is kept (it carried force earlier in this step or
 // the last). The lattice cannot resolve contact finer than its cells' trilinear field:
 // a row per vertex only adds nearly dependent copies that cost a solve column each (and
 // slow PGS). When the deepest vertex of a site changes between SQP iterations, the new
 // one joins and the old one stays (kept), so the rows still converge.
+// `probes` come in ascending vertex order (gather_candidates), and so do the
+// representatives: the first of a site's deepest wins a tie. `site_best`: scratch, -1 on
+// entry and on return; `sites`: scratch.
 void representative_probes(const Body& body, const std::vector<Probe>& probes, uint32_t first_vertex,
-                           uint32_t obstacle, const std::vector<uint64_t>& keep,
-                           std::vector<std::pair<uint32_t, int>>& order, std::vector<Probe>& out) {
-  order.clear();
-  for (int i = 0; i < static_cast<int>(probes.size()); ++i) order.emplace_back(contact_site(body, probes[i].vertex), i);
-  std::sort(order.begin(), order.end());
-  out.clear();
-  for (size_t i = 0; i < order.size();) {
-    const Probe* best = &probes[order[i].second];
-    size_t j = i;
-    for (; j < order.size() && order[j].first == order[i].first; ++j) {
-      const Probe& p = probes[order[j].second];
-      if (p.sdf.phi < best->sdf.phi || (p.sdf.phi == best->sdf.phi && p.vertex < best->vertex)) best = &p;
-    }
-    for (size_t q = i; q < j; ++q) {
-      const Probe& p = probes[order[q].second];
-      if (&p == best || std::binary_search(keep.begin(), keep.end(), contact_key(first_vertex + p.vertex, obstacle)))
-        out.push_back(p);
-    }
-    i = j;
+                           uint32_t obstacle, const std::vector<uint64_t>& keep, std::vector<int>& site_best,
+                           std::vector<uint32_t>& sites, std::vector<Probe>& out) {
+  if (site_best.size() < contact_site_count(body)) site_best.resize(contact_site_count(body), -1);
+  const int count = static_cast<int>(probes.size());
+  sites.resize(count);
+  for (int i = 0; i < count; ++i) {
+    sites[i] = contact_site(body, probes[i].vertex);
+    int& best = site_best[sites[i]];
+    if (best < 0 || probes[i].sdf.phi < probes[best].sdf.phi) best = i;
   }
-  std::sort(out.begin(), out.end(), [](const Probe& a, const Probe& b) { return a.vertex < b.vertex; });
+  out.clear();
+  for (int i = 0; i < count; ++i) {
+    const Probe& p = probes[i];
+    if (site_best[sites[i]] == i ||
+        std::binary_search(keep.begin(), keep.end(), contact_key(first_vertex + p.vertex, obstacle)))
+      out.push_back(p);
+  }
+  for (int i = 0; i < count; ++i) site_best[sites[i]] = -1;
 }
 
 // Whether the vertex's embedding weighs some free node: a vertex held by fixed nodes alone
@@ -173,10 +181,11 @@ ContactRowsResult add_contact_rows(const Model& model, double t_end, const VecX&
         double margin;
       } query{ob, origin, margin};
       const auto near = [q = &query](const Aabb& box) { return obstacle_distance_bound(q->ob, q->origin, box) < q->margin; };
-      gather_candidates(x, body, near, search == ContactSearch::BruteForce, first_vertex, k, keep, candidates);
+      gather_candidates(x, body, near, search == ContactSearch::BruteForce, first_vertex, k, keep, buffers.candidate_marks,
+                        candidates);
       evaluate_probes(x, v, body, ob, origin, candidates, search == ContactSearch::BruteForce, probes);
       result.candidates += static_cast<int>(probes.size());
-      representative_probes(body, probes, first_vertex, k, keep, buffers.order, representatives);
+      representative_probes(body, probes, first_vertex, k, keep, buffers.site_best, buffers.sites, representatives);
       for (const Probe& probe : representatives) {
         const uint32_t id = first_vertex + probe.vertex;
         const uint64_t key = contact_key(id, k);

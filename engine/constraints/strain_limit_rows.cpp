@@ -29,6 +29,7 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc) {
 struct StrainRowBuffers {
   std::vector<double> worst;
   std::vector<double> cut_gaps;  // per element, its spec's pair_cut_gap (empty: the default)
+  std::vector<StrainLimitSpec> body_specs;  // per body, its limits (tet_spec adds the tet's frame and gap)
   std::vector<RotationVariantSvd> svds;
   std::vector<StrainLimitValues> values;
   std::vector<std::pair<int, StrainRowMask>> kept;
@@ -46,17 +47,29 @@ bool is_limited(const Model& model, int e) {
   return model.element_type[e] == ElementType::Tet4 && model.bodies[model.element_body[e]].strain_limit.enabled;
 }
 
-// The limits of tet e: its body's, in the tet's material frame, with its pair cuts' gap.
-StrainLimitSpec tet_spec(const Model& model, int e, const std::vector<double>* cut_gaps = nullptr) {
+// Per body, its limits, once a build (strain_limit_spec reads the description's strings).
+void update_body_specs(const Model& model, StrainRowBuffers& buffers) {
+  buffers.body_specs.resize(model.bodies.size());
+  for (size_t b = 0; b < model.bodies.size(); ++b) buffers.body_specs[b] = strain_limit_spec(model.bodies[b].strain_limit);
+}
+
+// The limits of tet e: its body's, in the tet's material frame (pair cuts within the
+// default gap).
+StrainLimitSpec tet_spec(const Model& model, int e) {
   StrainLimitSpec spec = strain_limit_spec(model.bodies[model.element_body[e]].strain_limit);
   spec.frame = model.element_strain_frame[e];
-  if (cut_gaps && !cut_gaps->empty()) spec.pair_cut_gap = (*cut_gaps)[e];
   return spec;
 }
 
-// The gap under which tet e's pairs get their cuts (strain_limit_rows.hpp): 4 delta^2 /
-// tolerance, delta = h |L| for the velocity gradient L at the step's start velocities
-// (kinematic nodes count as still).
+// The same from a build's buffers, with the tet's pair cuts' gap.
+StrainLimitSpec tet_spec(const Model& model, int e, const StrainRowBuffers& buffers) {
+  StrainLimitSpec spec = buffers.body_specs[model.element_body[e]];
+  spec.frame = model.element_strain_frame[e];
+  if (!buffers.cut_gaps.empty()) spec.pair_cut_gap = buffers.cut_gaps[e];
+  return spec;
+}
+
+// The gap under which tet e's pairs get their cuts (strain_pair_cut_gaps).
 double pair_cut_gap(const Model& model, const VecX& v_start, int e) {
   const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
   Mat3 dF = Mat3::Zero();
@@ -77,7 +90,7 @@ Mat3 tet_deformation_gradient(const Model& model, const VecX& x, int e) {
 // build) into `buffers`.
 const std::vector<double>& worst_per_element(const Model& model, const VecX& x, std::vector<double>& worst,
                                              StrainRowBuffers* buffers = nullptr) {
-  const std::vector<double>* cut_gaps = buffers ? &buffers->cut_gaps : nullptr;
+  if (buffers) update_body_specs(model, *buffers);
   worst.assign(model.num_elements, -1e300);
   if (buffers) {
     buffers->svds.resize(model.num_elements);
@@ -94,7 +107,8 @@ const std::vector<double>& worst_per_element(const Model& model, const VecX& x, 
       compute_rotation_variant_svds(F, svds, count);
       for (int k = 0; k < count; ++k) {
         const int e = tets[k];
-        const StrainLimitValues values = compute_strain_limit_values(tet_spec(model, e, cut_gaps), svds[k]);
+        const StrainLimitValues values =
+            compute_strain_limit_values(buffers ? tet_spec(model, e, *buffers) : tet_spec(model, e), svds[k]);
         worst[e] = worst_strain_violation(values);
         if (buffers) buffers->svds[e] = svds[k], buffers->values[e] = values;
       }
@@ -135,19 +149,16 @@ double overall(const Model& model, const std::vector<double>& worst) {
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,
                              KeptStorage<StrainRowBuffers>* storage, StrainJacobians jacobians,
-                             const VecX* v_start) {
+                             const std::vector<double>* cut_gaps) {
   if (!model.has_strain_limits) return -1;
   // Deferred: the completion must find this build's buffers, whichever thread it runs on.
   assert(jacobians == StrainJacobians::Now || storage);
   StrainRowBuffers& buffers = kept_or_thread_local(storage);
   buffers.deferred_first_row = -1;
-  buffers.cut_gaps.clear();
-  if (v_start && v_start->size() == 3 * model.num_free) {
-    buffers.cut_gaps.resize(model.num_elements);
-    tbb::parallel_for(0, model.num_elements, [&](int e) {
-      buffers.cut_gaps[e] = is_limited(model, e) ? pair_cut_gap(model, *v_start, e) : 0.0;
-    });
-  }
+  if (cut_gaps)
+    buffers.cut_gaps = *cut_gaps;  // the deferred completion needs them (no allocation once sized)
+  else
+    buffers.cut_gaps.clear();
   const std::vector<RotationVariantSvd>& svds = buffers.svds;
   const std::vector<double>& worst = worst_per_element(model, x, buffers.worst, &buffers);
   // Kept constraints per tet, as bit masks over the constraint index k.
@@ -182,7 +193,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
       rows_without_jacobians(buffers.values[e], margin, masks[i], found[i]);
       return;
     }
-    const StrainLimitSpec spec = tet_spec(model, e, &buffers.cut_gaps);
+    const StrainLimitSpec spec = tet_spec(model, e, buffers);
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
     evaluate_strain_limit_rows(spec, svds[e], dN_dX, margin, masks[i], found[i]);  // a candidate has rows
   });
@@ -202,6 +213,15 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
   return overall(model, worst);
 }
 
+void strain_pair_cut_gaps(const Model& model, const VecX& v_start, std::vector<double>& out) {
+  out.clear();
+  if (!model.has_strain_limits || v_start.size() != 3 * model.num_free) return;
+  out.resize(model.num_elements);
+  tbb::parallel_for(tbb::blocked_range<int>(0, model.num_elements, 64), [&](const tbb::blocked_range<int>& range) {
+    for (int e = range.begin(); e < range.end(); ++e) out[e] = is_limited(model, e) ? pair_cut_gap(model, v_start, e) : 0.0;
+  });
+}
+
 void complete_strain_limit_jacobians(const Model& model, RowTable& rows, KeptStorage<StrainRowBuffers>* storage) {
   StrainRowBuffers& buffers = kept_or_thread_local(storage);
   if (buffers.deferred_first_row < 0) return;
@@ -212,7 +232,7 @@ void complete_strain_limit_jacobians(const Model& model, RowTable& rows, KeptSto
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
     const int e = candidates[i];
     const Mat43 dN_dX = model.tet_gradients[model.element_reference[e]].topRows<4>();
-    evaluate_strain_limit_rows(tet_spec(model, e, &buffers.cut_gaps), buffers.svds[e], dN_dX, buffers.deferred_margin, buffers.masks[i],
+    evaluate_strain_limit_rows(tet_spec(model, e, buffers), buffers.svds[e], dN_dX, buffers.deferred_margin, buffers.masks[i],
                                found[i]);
   });
   int r_index = buffers.deferred_first_row;

@@ -20,22 +20,30 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
 // Deferred (with a `storage`): the rows' Jacobians are left zero until
 // complete_strain_limit_jacobians (a line-search trial needs the values alone, and most
 // trials are not linearised at).
-// `v_start` (3 per free node): the step's start velocities, which gate each tet's pair
-// cuts (strain_limit.hpp) by how far they move F over the step, delta = h |L| for the
-// velocity gradient L = sum_a v_a dN_a^T (Frobenius; spin included, which errs towards
-// more cuts: a spin-free measure, |sym(U^T L V)|, took the flat finger's SQP from 262 to
-// 285 iterations over 120 frames, against 321 without cuts): a linearisation misses a
-// near-equal pair's largest stretch by ~delta^2 / gap, so a pair gets its cuts only where that could reach a quarter
-// of solver.strain_tolerance, gap < 4 delta^2 / tolerance. A body at rest has none: there
-// the cuts only make the LCP degenerate (their gradients and the pair's rows are dependent
-// where the stretches meet) and PGS slower (the side-pressed finger at rest kept ~8, and
-// 3-17 sweeps a step instead of 1). Null: cuts wherever a pair is within
+// `cut_gaps` (per element, from strain_pair_cut_gaps below): the gap under which each tet's
+// pairs get their cuts (strain_limit.hpp). Null: cuts wherever a pair is within
 // kStrainLimitBlendGap.
 enum class StrainJacobians { Now, Deferred };
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,
                              KeptStorage<StrainRowBuffers>* storage = nullptr,
-                             StrainJacobians jacobians = StrainJacobians::Now, const VecX* v_start = nullptr);
+                             StrainJacobians jacobians = StrainJacobians::Now,
+                             const std::vector<double>* cut_gaps = nullptr);
+
+// Per element, the gap under which its pairs get cuts, from `v_start` (3 per free node), the
+// step's start velocities: they gate the cuts by how far they move F over the step,
+// delta = h |L| for the velocity gradient L = sum_a v_a dN_a^T (Frobenius; spin included,
+// which errs towards more cuts: a spin-free measure, |sym(U^T L V)|, took the flat finger's
+// SQP from 262 to 285 iterations over 120 frames, against 321 without cuts; kinematic nodes
+// count as still). A linearisation misses a near-equal pair's largest stretch by
+// ~delta^2 / gap, so a pair gets its cuts only where that could reach a quarter of
+// solver.strain_tolerance: gap < 4 delta^2 / tolerance. A body at rest has none: there the
+// cuts only make the LCP degenerate (their gradients and the pair's rows are dependent where
+// the stretches meet) and PGS slower (the side-pressed finger at rest kept ~8, and 3-17
+// sweeps a step instead of 1). Computed once a step (the start velocities do not change
+// within it), not at each of its row builds. 0 for tets without limits; empty `out` if
+// `v_start` has the wrong size (no gate).
+void strain_pair_cut_gaps(const Model& model, const VecX& v_start, std::vector<double>& out);
 
 // Sets the Jacobians that the last add_strain_limit_rows with this storage left zero, if it
 // was deferred (from that build's SVDs: `rows` must hold that build's rows where it put

@@ -30,7 +30,8 @@ namespace {
 // freely on the steps in between (and sink, when g h^2 < contact_tolerance).
 // `limits`: the same worst without the attachments' gaps (the divergence test's measure: a
 // grab dragged where the body cannot follow is a wish, not a diverged step).
-double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v, const VecX& v_start,
+double build_rows(const Model& model, double t_end, int k, const VecX& x, const VecX& v,
+                  const std::vector<double>& strain_cut_gaps,
                   const std::vector<uint64_t>& keep, const std::vector<Attachment>& attachments, RowTable& rows,
                   BodySurfaces& surfaces, EnergyScreen& screen, StepScratch& sc, StepProfile& profile,
                   double& limits) {
@@ -48,7 +49,7 @@ double build_rows(const Model& model, double t_end, int k, const VecX& x, const 
                                        &sc.energy_row_buffers);
         if (model.has_strain_limits)
           strain = add_strain_limit_rows(model, x, model.solver.strain_activation_margin, keep, rows,
-                                         &sc.strain_row_buffers, StrainJacobians::Deferred, &v_start);
+                                         &sc.strain_row_buffers, StrainJacobians::Deferred, &strain_cut_gaps);
       },
       [&] {
         if (contact)
@@ -341,7 +342,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     sc.x_iterate = x0 + h * s.v;
     // Every way out of the loop below builds the rows at the step's last iterate: this is
     // then the step's violation.
-    return s.step_violation = build_rows(model, s.t + h, k, sc.x_iterate, s.v, s.v_start, keep, s.attachments, s.rows,
+    return s.step_violation = build_rows(model, s.t + h, k, sc.x_iterate, s.v, sc.strain_cut_gaps, keep, s.attachments, s.rows,
                                          s.body_surfaces, s.energy_screen, sc, profile, s.step_limit_violation);
   };
   // v* violates something. When the previous step was constrained too, v* has left out
@@ -363,6 +364,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     StageTimer timer(profile, Stage::Rows);
     complete_strain_limit_jacobians(model, s.rows, &sc.strain_row_buffers);
   };
+  if (model.has_strain_limits) strain_pair_cut_gaps(model, s.v_start, sc.strain_cut_gaps);  // one gate a step
   const bool linearise_at_start = !s.warm_start.empty() && strays_beyond_margin(model, s.v_start, v_star);
   int sqp_cap = IterationCaps::effective(cfg.sqp_max_iterations, s.caps.sqp);
   const bool may_extend =

@@ -117,10 +117,14 @@ TEST_CASE("strain rows: pair cuts gated by the step's start velocities, deferred
   RowTable ungated, still, sheared, crept;
   add_strain_limit_rows(model, x, all, {}, ungated);
   KeptStorage<StrainRowBuffers> storage;
-  const VecX v_still = flow(Mat3::Zero()), v_shear = flow(shear), v_slow = flow(slow);
-  add_strain_limit_rows(model, x, all, {}, still, &storage, StrainJacobians::Now, &v_still);
-  add_strain_limit_rows(model, x, all, {}, sheared, &storage, StrainJacobians::Now, &v_shear);
-  add_strain_limit_rows(model, x, all, {}, crept, &storage, StrainJacobians::Now, &v_slow);
+  std::vector<double> gaps_still, gaps_shear, gaps_slow;
+  strain_pair_cut_gaps(model, flow(Mat3::Zero()), gaps_still);
+  strain_pair_cut_gaps(model, flow(shear), gaps_shear);
+  strain_pair_cut_gaps(model, flow(slow), gaps_slow);
+  REQUIRE(gaps_still.size() == static_cast<size_t>(model.num_elements));
+  add_strain_limit_rows(model, x, all, {}, still, &storage, StrainJacobians::Now, &gaps_still);
+  add_strain_limit_rows(model, x, all, {}, sheared, &storage, StrainJacobians::Now, &gaps_shear);
+  add_strain_limit_rows(model, x, all, {}, crept, &storage, StrainJacobians::Now, &gaps_slow);
   MESSAGE("cut rows: ungated " << cuts_in(ungated) << ", still " << cuts_in(still) << ", sheared "
                                << cuts_in(sheared) << ", sheared 1000 times slower " << cuts_in(crept));
   REQUIRE(cuts_in(ungated) > 0);
@@ -131,7 +135,7 @@ TEST_CASE("strain rows: pair cuts gated by the step's start velocities, deferred
 
   // Deferred and completed with the same gate: the immediate table, bit for bit.
   RowTable deferred;
-  add_strain_limit_rows(model, x, all, {}, deferred, &storage, StrainJacobians::Deferred, &v_shear);
+  add_strain_limit_rows(model, x, all, {}, deferred, &storage, StrainJacobians::Deferred, &gaps_shear);
   complete_strain_limit_jacobians(model, deferred, &storage);
   REQUIRE(deferred.size() == sheared.size());
   int differing = 0;
