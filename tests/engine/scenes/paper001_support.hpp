@@ -1,7 +1,10 @@
 #pragma once
-// Shared by the paper 001 scene tests: load a shipped scene, measure stretches of tets.
+// Shared by the paper 001 scene tests: load a shipped scene, measure stretches of tets, run
+// the flat-pressed finger and count its SQP's work.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <functional>
 #include <string>
 
 #include "engine/assembly/element_kernels.hpp"
@@ -38,6 +41,38 @@ inline double extent_along(const Model& m, const VecX& x, const Vec3& d) {
     hi = std::max(hi, x.segment<3>(3 * n).dot(d));
   }
   return hi - lo;
+}
+
+// The finger of fig. 3 pressed flat, sleep off (as benchmarked: asleep, it would test
+// nothing), `configure`d, run for `frames` steps: its SQP's work and worst strain violation.
+struct FlatFingerRun {
+  double worst_violation = 0;
+  double tolerance = 0;
+  int sqp_iterations = 0;
+  int backtracks = 0;
+  int restorations_accepted = 0;
+  int capped_steps = 0;
+};
+inline FlatFingerRun run_flat_finger(const std::function<void(SceneDesc&)>& configure, int frames) {
+  SceneDesc scene =
+      load_scene(std::string(SINEW_SOURCE_DIR) + "/assets/scenes/paper001_finger_flat_anisotropic.json");
+  scene.solver.sleep_steps = 0;
+  configure(scene);
+  World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
+  FlatFingerRun r;
+  r.tolerance = world.model().solver.strain_tolerance;
+  for (int f = 0; f < frames; ++f) {
+    REQUIRE(world.step());
+    r.worst_violation = std::max(r.worst_violation, worst_strain_limit_violation(world.model(), world.state().x));
+    r.sqp_iterations += world.profile().iteration("sqp");
+    r.backtracks += world.profile().iteration("sqp_backtracks");
+    r.restorations_accepted += world.profile().iteration("sqp_restorations_accepted");
+    if (world.profile().ended_at_sqp_cap(world.model().solver.sqp_max_iterations)) ++r.capped_steps;
+  }
+  MESSAGE("SQP iterations " << r.sqp_iterations << ", backtracks " << r.backtracks << ", restorations accepted "
+                            << r.restorations_accepted << ", worst strain violation " << r.worst_violation
+                            << ", steps at the cap " << r.capped_steps);
+  return r;
 }
 
 }  // namespace sinew::paper001
