@@ -402,7 +402,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // conjugate step's first trial may be up to twice it, and must be within it too.)
     if (searching && worst <= 1 && std::max(1.0, alpha) * last_move <= cfg.sqp_position_tolerance)
       searching = false;
-    // A trial that brings an iterate past a tolerance within every one is taken whatever the
+    // With solver.sqp_restoration "accept" (not the default: fewer QPs, not less time), a
+    // trial that brings an iterate past a tolerance within every one is taken whatever the
     // merit says (a filter's acceptance: it is strictly less violated in the measure the
     // tolerances use). The l1 merit sums every row's violation: where a QP step brings the
     // worst row from past its tolerance to well within it, many rows may each end a little
