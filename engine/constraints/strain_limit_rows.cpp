@@ -155,6 +155,7 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
   assert(jacobians == StrainJacobians::Now || storage);
   StrainRowBuffers& buffers = kept_or_thread_local(storage);
   buffers.deferred_first_row = -1;
+  assert(!cut_gaps || cut_gaps->empty() || cut_gaps->size() == static_cast<size_t>(model.num_elements));
   if (cut_gaps)
     buffers.cut_gaps = *cut_gaps;  // the deferred completion needs them (no allocation once sized)
   else

@@ -21,8 +21,8 @@ StrainLimitSpec strain_limit_spec(const StrainLimitDesc& desc);
 // complete_strain_limit_jacobians (a line-search trial needs the values alone, and most
 // trials are not linearised at).
 // `cut_gaps` (per element, from strain_pair_cut_gaps below): the gap under which each tet's
-// pairs get their cuts (strain_limit.hpp). Null: cuts wherever a pair is within
-// kStrainLimitBlendGap.
+// pairs get their cuts (strain_limit.hpp): empty or one per element. Null or empty: cuts
+// wherever a pair is within kStrainLimitBlendGap.
 enum class StrainJacobians { Now, Deferred };
 double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
                              const std::vector<uint64_t>& keep, RowTable& rows,

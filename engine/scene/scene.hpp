@@ -173,10 +173,10 @@ struct SolverDesc {
   // reaches sqp_max_iterations outside them, with none of its iterates within them, goes on
   // for as many again, once; "none": the cap is final.
   std::string sqp_cap_extension = "once";
-  // "accept": a line-search trial that brings an iterate past some tolerance within every
-  // one is taken whatever the l1 merit says (a filter's acceptance; solve_constraints.cpp);
-  // "none": the merit alone decides (fewer QPs with "accept", but not less time on the flat
-  // finger: docs/ARCHITECTURE.md, "SQP globalisation").
+  // "accept": a line search's first trial that brings an iterate past some tolerance within
+  // every one is taken whatever the l1 merit says (a filter's acceptance; solve_constraints.cpp);
+  // "none": the merit alone decides ("accept" did not save time on the flat finger:
+  // docs/ARCHITECTURE.md, "SQP globalisation").
   std::string sqp_restoration = "none";
   // With an earlier step's factorisation and rows without curvature: "conjugate" steps
   // (each QP's step made A-conjugate to the last, taken to the Lagrangian's minimiser along

@@ -402,9 +402,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // conjugate step's first trial may be up to twice it, and must be within it too.)
     if (searching && worst <= 1 && std::max(1.0, alpha) * last_move <= cfg.sqp_position_tolerance)
       searching = false;
-    // With solver.sqp_restoration "accept" (not the default: fewer QPs, not less time), a
-    // trial that brings an iterate past a tolerance within every one is taken whatever the
-    // merit says (a filter's acceptance: it is strictly less violated in the measure the
+    // With solver.sqp_restoration "accept" (not the default: it did not save time), a
+    // first trial that brings an iterate past a tolerance within every one is taken whatever
+    // the merit says (a filter's acceptance: it is strictly less violated in the measure the
     // tolerances use). The l1 merit sums every row's violation: where a QP step brings the
     // worst row from past its tolerance to well within it, many rows may each end a little
     // violated, still within tolerance, and the sum rise above the few rows' before. Halving
@@ -412,9 +412,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // ends past the tolerance again (the flat finger: full steps at 0.25-0.31 of the
     // tolerance rejected at five QPs in a row, each ending at 1.2-1.3 of it, to the cap).
     // Not for the first QP: its start's worst counts any predicted penetration as 2.
+    // Counted only where the merit would have rejected it.
     if (searching && restoration_on && worst <= 1 && from_worst > 1) {
       searching = false;
-      ++restorations_accepted;
+      if (merit_step.change(alpha, merit.penalty(s.rows, h)) > 1e-4 * alpha * merit_step.predicted_change())
+        ++restorations_accepted;
     }
     for (int back = 0; searching; ++back) {
       const double change = merit_step.change(alpha, merit.penalty(s.rows, h));

@@ -391,6 +391,11 @@ TEST_CASE("scene parser: string and choice errors") {
   scene = minimal_scene();
   scene["solver"] = {{"sqp_acceleration", "anderson"}};
   check_error(scene, "solver.sqp_acceleration: expected one of \"conjugate\", \"none\", got \"anderson\"");
+  CHECK(sinew::parse_scene_text(minimal_scene().dump(), "test.json", "").solver.sqp_restoration == "none");
+  scene["solver"] = {{"sqp_restoration", "accept"}};
+  CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.sqp_restoration == "accept");
+  scene["solver"] = {{"sqp_restoration", "always"}};
+  check_error(scene, "solver.sqp_restoration: expected one of \"accept\", \"none\", got \"always\"");
   scene["solver"] = {{"stale_factor_precision", "double"}};
   CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.stale_factor_precision == "double");
   scene["solver"] = {{"stale_factor_precision", "half"}};
