@@ -12,47 +12,29 @@ using namespace sinew::paper001;
 
 namespace {
 
-struct PerturbedRun {
-  double worst_violation = 0;  // over the steps, of the strain limits
-  int capped_steps = 0;        // steps whose SQP ended at its iteration cap (as extended, if it was)
-  int stalls_accepted = 0;
-  int backtracks = 0;
-  double tolerance = 0;
-};
-
-PerturbedRun run_with_load_scale(const std::string& name, double scale, int frames) {
-  SceneDesc scene = load_scene(std::string(SINEW_SOURCE_DIR) + "/assets/scenes/" + name + ".json");
-  for (BodyDesc& body : scene.bodies)
-    for (LoadDesc& load : body.loads) load.force *= scale;
-  scene.solver.sleep_steps = 0;  // as measured: a finger asleep would test nothing
-  World world(build_model(scene, [](const std::string&) {}), initial_velocities(scene));
-  PerturbedRun r;
-  r.tolerance = world.model().solver.strain_tolerance;
-  for (int f = 0; f < frames; ++f) {
-    REQUIRE(world.step());
-    r.worst_violation = std::max(r.worst_violation, worst_strain_limit_violation(world.model(), world.state().x));
-    const auto& it = world.profile().iterations;
-    if (world.profile().ended_at_sqp_cap(world.model().solver.sqp_max_iterations)) ++r.capped_steps;
-    if (it.count("sqp_stalls_accepted")) r.stalls_accepted += it.at("sqp_stalls_accepted");
-    if (it.count("sqp_backtracks")) r.backtracks += it.at("sqp_backtracks");
-  }
-  MESSAGE(name << ", load x (1 + " << scale - 1 << "): worst violation " << r.worst_violation << ", steps at the cap "
-               << r.capped_steps << ", stalls accepted " << r.stalls_accepted << ", backtracks " << r.backtracks);
-  return r;
+SqpRun run_with_load_scale(const std::string& name, double scale, int frames) {
+  MESSAGE(name << ", load x (1 + " << scale - 1 << "):");
+  return run_counting_sqp(
+      name,
+      [&](SceneDesc& scene) {
+        for (BodyDesc& body : scene.bodies)
+          for (LoadDesc& load : body.loads) load.force *= scale;
+      },
+      frames);
 }
 
 }  // namespace
 
 TEST_CASE("paper 001 fig. 3: pressed on its tip, the anisotropic finger keeps its limits under round-off changes of the load") {
   for (const double eps : {-1e-14, 2e-14, 3e-14}) {
-    const PerturbedRun r = run_with_load_scale("paper001_finger_tip_anisotropic", 1 + eps, 60);
+    const SqpRun r = run_with_load_scale("paper001_finger_tip_anisotropic", 1 + eps, 60);
     CHECK(r.worst_violation <= r.tolerance);
   }
 }
 
 TEST_CASE("paper 001 fig. 3: pressed flat, the anisotropic finger's SQP converges in every step") {
   for (const double eps : {0.0, 1e-14}) {
-    const PerturbedRun r = run_with_load_scale("paper001_finger_flat_anisotropic", 1 + eps, 60);
+    const SqpRun r = run_with_load_scale("paper001_finger_flat_anisotropic", 1 + eps, 60);
     CHECK(r.worst_violation <= r.tolerance);
     CHECK(r.capped_steps == 0);
     CHECK(r.stalls_accepted > 0);  // the rows that switch at their limits: what ends these steps
