@@ -16,29 +16,6 @@ void RowTable::clear() {
   begin.assign(1, 0);
 }
 
-int RowTable::add_row(RowKind k, double c, double lower, double upper, uint64_t identity) {
-  ++appended;
-  kind.push_back(k);
-  value.push_back(c);
-  lo.push_back(lower);
-  hi.push_back(upper);
-  normal_row.push_back(-1);
-  mu.push_back(0);
-  key.push_back(identity);
-  element.push_back(-1);
-  curvature.push_back(0);
-  curvature_block.push_back(-1);
-  lambda.push_back(0);
-  begin.push_back(static_cast<int>(nodes.size()));
-  return size() - 1;
-}
-
-void RowTable::add_entry(int node, const Vec3& d) {
-  nodes.push_back(node);
-  jac.push_back(d);
-  begin.back() = static_cast<int>(nodes.size());
-}
-
 void RowTable::append(const RowTable& other) {
   const int row_base = size(), entry_base = static_cast<int>(nodes.size());
   const int block_base = static_cast<int>(curvature_blocks.size());

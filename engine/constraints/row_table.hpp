@@ -51,6 +51,30 @@ struct RowTable {
   int count(RowKind k) const;
 };
 
+// Inline: the strain and contact builds add hundreds of rows and thousands of entries a build.
+inline int RowTable::add_row(RowKind k, double c, double lower, double upper, uint64_t identity) {
+  ++appended;
+  kind.push_back(k);
+  value.push_back(c);
+  lo.push_back(lower);
+  hi.push_back(upper);
+  normal_row.push_back(-1);
+  mu.push_back(0);
+  key.push_back(identity);
+  element.push_back(-1);
+  curvature.push_back(0);
+  curvature_block.push_back(-1);
+  lambda.push_back(0);
+  begin.push_back(static_cast<int>(nodes.size()));
+  return size() - 1;
+}
+
+inline void RowTable::add_entry(int node, const Vec3& d) {
+  nodes.push_back(node);
+  jac.push_back(d);
+  begin.back() = static_cast<int>(nodes.size());
+}
+
 // A key from a kind and up to two indices (element, sub-row; vertex, obstacle...).
 inline uint64_t row_key(RowKind k, uint32_t a, uint32_t b = 0) {
   return (uint64_t(k) << 60) ^ (uint64_t(a) << 24) ^ uint64_t(b);

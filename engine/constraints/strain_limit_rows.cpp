@@ -176,20 +176,26 @@ double add_strain_limit_rows(const Model& model, const VecX& x, double margin,
       kept.back().second |= bit;
     }
   std::sort(kept.begin(), kept.end());
-  for (int e = 0; e < model.num_elements; ++e) {
-    const bool has_kept = std::binary_search(kept.begin(), kept.end(), std::make_pair(e, 0u),
-                                             [](auto a, auto b) { return a.first < b.first; });
-    if (is_limited(model, e) && (worst[e] > -margin || has_kept)) candidates.push_back(e);
-  }
-  found.resize(candidates.size());
+  // Candidates and their kept masks in one walk over the elements and `kept` (both in
+  // element order), no search per element.
   std::vector<StrainRowMask>& masks = buffers.masks;
-  masks.resize(candidates.size());
+  masks.clear();
+  masks.reserve(model.num_elements);  // at the first build: a candidate per element at most
+  auto next_kept = kept.begin();
+  for (int e = 0; e < model.num_elements; ++e) {
+    while (next_kept != kept.end() && next_kept->first < e) ++next_kept;
+    const StrainRowMask mask = next_kept != kept.end() && next_kept->first == e ? next_kept->second : 0u;
+    if (is_limited(model, e) && (worst[e] > -margin || mask != 0)) {
+      candidates.push_back(e);
+      masks.push_back(mask);
+    }
+  }
+  // Grown, never shrunk: a StrainLimitRows is 8 kB, and resizing up value-initialises
+  // (zeroes) every element added, at each build whose candidates outnumber the last one's.
+  if (found.size() < candidates.size()) found.resize(candidates.size());
   const bool defer = jacobians == StrainJacobians::Deferred;
   tbb::parallel_for(size_t(0), candidates.size(), [&](size_t i) {
     const int e = candidates[i];
-    const auto it = std::lower_bound(kept.begin(), kept.end(), std::make_pair(e, 0u),
-                                     [](auto a, auto b) { return a.first < b.first; });
-    masks[i] = (it != kept.end() && it->first == e) ? it->second : 0u;
     if (defer) {
       rows_without_jacobians(buffers.values[e], margin, masks[i], found[i]);
       return;
