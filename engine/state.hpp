@@ -36,6 +36,8 @@ struct StepScratch {
   VecX sqp_from, sqp_direction, sqp_feasible, sqp_product;  // SQP line search: v_k, its step, the last
                                                             // iterate within tolerance, A v
   VecX sqp_previous_direction, sqp_previous_product;  // the last search direction p and A p (conjugate steps)
+  std::vector<std::pair<uint64_t, int>> kkt_rows;  // sqp_kkt_stop.hpp: the last QP's (key, row)
+  std::vector<double> kkt_lambda;                  // and its multipliers on the new rows
   ScratchMatrix per_row;  // m x 6: the LCP's c, J (v_base - v_k), PGS's residual weights, W lambda_0,
                           // W~ lambda_0 and lambda_0 (solve_constraints)
   std::vector<uint64_t> keep;

@@ -143,7 +143,7 @@ uint64_t run_once(const BenchScene& bench, const SceneDesc& scene, int warmup, i
 
 // Solver settings given on the command line for every scene (empty, 0 or -1: the scene's).
 struct SolverOverrides {
-  std::string linear, sqp_acceleration, sqp_restoration, pgs_sweeps, stale_factor_precision, pair_cuts;
+  std::string linear, sqp_acceleration, sqp_restoration, sqp_kkt_stop, pgs_sweeps, stale_factor_precision, pair_cuts;
   int delassus_reuse = 0, pgs_subspace = -1;
   double hessian_reuse_tolerance = -1;
 };
@@ -152,6 +152,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
   SceneDesc scene = bench.make();
   if (!set.sqp_acceleration.empty()) scene.solver.sqp_acceleration = set.sqp_acceleration;
   if (!set.sqp_restoration.empty()) scene.solver.sqp_restoration = set.sqp_restoration;
+  if (!set.sqp_kkt_stop.empty()) scene.solver.sqp_kkt_stop = set.sqp_kkt_stop;
   if (!set.stale_factor_precision.empty()) scene.solver.stale_factor_precision = set.stale_factor_precision;
   if (!set.linear.empty()) scene.solver.linear = set.linear;
   if (!set.pgs_sweeps.empty()) scene.solver.pgs_sweeps = set.pgs_sweeps;
@@ -219,7 +220,7 @@ nlohmann::json bench_scene(const BenchScene& bench, int warmup, int steps, int r
   return {{"steps_per_second", steps_per_second}, {"realtime_factor", steps_per_second * scene.h}, {"h", scene.h},
           {"violation_max", worst},
           {"rows_median", quantile(rows, 0.5)}, {"rows_max", quantile(rows, 1.0)},
-          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"sqp_restoration", scene.solver.sqp_restoration}, {"stale_factor_precision", scene.solver.stale_factor_precision}, {"hessian_reuse_tolerance", scene.solver.hessian_reuse_tolerance}, {"pair_cuts", set.pair_cuts.empty() ? "scene's" : set.pair_cuts}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
+          {"sqp_median", quantile(sqp, 0.5)}, {"constrained_tets_median", quantile(tets, 0.5)}, {"linear", scene.solver.linear}, {"delassus_reuse", scene.solver.delassus_reuse}, {"pgs_subspace_interval", scene.solver.pgs_subspace_interval}, {"pgs_sweeps", scene.solver.pgs_sweeps}, {"sqp_acceleration", scene.solver.sqp_acceleration}, {"sqp_restoration", scene.solver.sqp_restoration}, {"sqp_kkt_stop", scene.solver.sqp_kkt_stop}, {"stale_factor_precision", scene.solver.stale_factor_precision}, {"hessian_reuse_tolerance", scene.solver.hessian_reuse_tolerance}, {"pair_cuts", set.pair_cuts.empty() ? "scene's" : set.pair_cuts}, {"elements", model->num_elements}, {"dofs", 3 * model->num_free},
           {"steps", steps}, {"warmup", warmup + bench.settle}, {"finite", world->state().x.allFinite()},
           {"repeats", repeat}, {"step_median_per_repeat", repeat_medians},
           {"step_median_of_repeats", quantile(repeat_medians, 0.5)}, {"repeats_identical", identical}, {"end_state_hash", hash_text},
@@ -232,7 +233,7 @@ void print_usage(std::FILE* to) {
                "usage: sinew_bench [--scene NAME | --scene-file FILE [--scene-file FILE]... | --paper-scenes]\n"
                "                   [--steps N] [--warmup N] [--threads T] [--linear cholmod|pcg] [--delassus-reuse N]\n"
                "                   [--pgs-subspace N] [--pgs-sweeps active_set|all_rows]\n"
-               "                   [--sqp-acceleration conjugate|none] [--sqp-restoration accept|none]\n"
+               "                   [--sqp-acceleration conjugate|none] [--sqp-restoration accept|none] [--sqp-kkt-stop on|off]\n"
                "                   [--stale-factor-precision single|double]\n"
                "                   [--hessian-reuse-tolerance T] [--pair-cuts on|off] [--repeat N] [--out FILE]\n"
                "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
@@ -253,6 +254,7 @@ void print_usage(std::FILE* to) {
                "  --sqp-acceleration A  solver.sqp_acceleration for every scene (none: the SQP's plain steps)\n"
                "  --sqp-restoration R   solver.sqp_restoration for every scene (accept: a first line-search trial\n"
                "                        that brings a violated iterate within every tolerance is taken)\n"
+               "  --sqp-kkt-stop S      solver.sqp_kkt_stop for every scene (off: a QP confirms every iterate)\n"
                "  --stale-factor-precision P\n"
                "                        solver.stale_factor_precision for every scene (double: solves with an\n"
                "                        earlier step's factorisation read its values in double)\n"
@@ -324,6 +326,7 @@ Options parse_options(int argc, char** argv) {
     else if (arg == "--pgs-sweeps") o.set.pgs_sweeps = one_of(next(), {"active_set", "all_rows"});
     else if (arg == "--sqp-acceleration") o.set.sqp_acceleration = one_of(next(), {"conjugate", "none"});
     else if (arg == "--sqp-restoration") o.set.sqp_restoration = one_of(next(), {"accept", "none"});
+    else if (arg == "--sqp-kkt-stop") o.set.sqp_kkt_stop = one_of(next(), {"on", "off"});
     else if (arg == "--stale-factor-precision") o.set.stale_factor_precision = one_of(next(), {"single", "double"});
     else if (arg == "--pair-cuts") o.set.pair_cuts = one_of(next(), {"on", "off"});
     else if (arg == "--hessian-reuse-tolerance") o.set.hessian_reuse_tolerance = cli::parse_nonnegative(next(), arg);

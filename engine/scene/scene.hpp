@@ -178,6 +178,7 @@ struct SolverDesc {
   // "none": the merit alone decides ("accept" did not save time on the flat finger:
   // docs/ARCHITECTURE.md, "SQP globalisation").
   std::string sqp_restoration = "none";
+  std::string sqp_kkt_stop = "on";  // "on": stop at a KKT point without a confirming QP (sqp_kkt_stop.hpp)
   // With an earlier step's factorisation and rows without curvature: "conjugate" steps
   // (each QP's step made A-conjugate to the last, taken to the Lagrangian's minimiser along
   // it), or "none" (the QP's step as it is).

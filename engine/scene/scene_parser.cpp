@@ -658,6 +658,7 @@ SolverDesc parse_solver(const Object& o) {
   o.number("sqp_stall_tolerance", s.sqp_stall_tolerance, kNonNegative);
   o.choice("sqp_cap_extension", s.sqp_cap_extension, {"once", "none"});
   o.choice("sqp_restoration", s.sqp_restoration, {"accept", "none"});
+  o.choice("sqp_kkt_stop", s.sqp_kkt_stop, {"on", "off"});
   o.choice("sqp_acceleration", s.sqp_acceleration, {"conjugate", "none"});
   o.choice("sqp_solves", s.sqp_solves, {"shared", "separate"});
   o.choice("newton_predictor", s.newton_predictor, {"impulse", "none"});
@@ -686,7 +687,7 @@ SolverDesc parse_solver(const Object& o) {
 const KeyList kSolverKeys = {"linear",        "pcg_tolerance",      "pcg_max_iterations",
                              "pgs_max_iterations", "pgs_tolerance", "pgs_subspace_interval", "pgs_sweeps", "sqp_max_iterations",
                              "sqp_tolerance", "activation_margin", "contact_tolerance",
-                             "contact_margin", "body_friction", "sqp_position_tolerance", "sqp_stall_tolerance", "sqp_cap_extension", "sqp_restoration", "sqp_acceleration", "sqp_solves", "newton_predictor",
+                             "contact_margin", "body_friction", "sqp_position_tolerance", "sqp_stall_tolerance", "sqp_cap_extension", "sqp_restoration", "sqp_kkt_stop", "sqp_acceleration", "sqp_solves", "newton_predictor",
                              "refactor_interval", "curved_refactor_interval", "stale_factor_precision", "hessian_reuse_tolerance", "delassus_reuse", "max_speed", "budget_violation_limit", "divergence_violation_limit", "strain_tolerance", "strain_activation_margin", "newton_max_iterations",
                              "newton_tolerance", "sleep_speed", "sleep_acceleration", "sleep_steps"};
 const KeyList kSceneKeys = {"name",   "gravity", "h",      "fps",

@@ -13,6 +13,7 @@
 #include "engine/constraints/energy_limit.hpp"
 #include "engine/constraints/lcp_pgs.hpp"
 #include "engine/constraints/strain_limit_rows.hpp"
+#include "engine/step/sqp_kkt_stop.hpp"
 #include "engine/step/sqp_merit.hpp"
 #include "engine/step/stages.hpp"
 
@@ -118,13 +119,7 @@ void scatter_free(const Model& model, const VecX& free, VecX& full) {
 // Per row h / (its kind's SQP tolerance): PGS's residual (a velocity, w = J v) times it is
 // the change of C over the step as a fraction of what SQP accepts.
 void residual_weights(const SolverDesc& cfg, double h, const RowTable& rows, Eigen::Ref<VecX> weight) {
-  for (int i = 0; i < rows.size(); ++i) {
-    const RowKind kind = rows.kind[i];
-    const double tolerance = kind == RowKind::Energy   ? cfg.sqp_tolerance
-                             : kind == RowKind::Strain ? cfg.strain_tolerance
-                                                       : cfg.contact_tolerance;
-    weight[i] = h / tolerance;
-  }
+  for (int i = 0; i < rows.size(); ++i) weight[i] = h / row_tolerance(cfg, rows.kind[i]);
 }
 
 // out += J u over the rows' stencils (u: free velocities).
@@ -140,6 +135,12 @@ void apply_jacobian_transpose(const Model& model, const RowTable& rows, VecX& ou
   for (int i = 0; i < rows.size(); ++i)
     for (int k = rows.begin[i]; k < rows.begin[i + 1]; ++k)
       if (const int f = model.free_index[rows.nodes[k]]; f >= 0) out.segment<3>(3 * f) += rows.lambda[i] * rows.jac[k];
+}
+
+// Whether no row carries curvature (energy and strain rows do: element >= 0): contacts,
+// friction and attachments, linear in the positions on planes.
+bool rows_without_curvature(const RowTable& rows) {
+  return std::all_of(rows.element.begin(), rows.element.end(), [](int e) { return e < 0; });
 }
 
 // Whether h (v - v0) moves some node further than its body's contact margin.
@@ -315,6 +316,12 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   double least_violation = std::numeric_limits<double>::infinity();
   int backtracks = 0, stalls_accepted = 0, restored = 0, conjugate_steps = 0, restorations_accepted = 0;
   const bool restoration_on = cfg.sqp_restoration == "accept";
+  // The KKT stop (sqp_kkt_stop.hpp): whether the last QP may be tested (solved with this
+  // step's A, its step taken whole, its LCP to tolerance, rows without curvature), and how
+  // often the test ended the step.
+  const bool kkt_stop_on = cfg.sqp_kkt_stop == "on" && !model.has_hyperelastic;
+  bool kkt_testable = false;
+  int kkt_stops = 0;
   // Conjugate steps: whether the last QP left its direction and A times it in scratch.
   bool conjugate_ready = false;
   const bool conjugate_steps_on = cfg.sqp_acceleration == "conjugate";
@@ -322,6 +329,11 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   double previous_curvature = 0;
   // Sized here, not at the first step that needs them (a warm step allocates nothing).
   sc.sqp_feasible.resize(v_free.size());
+  if (kkt_stop_on) {  // by the row tables' capacity: they grow only with them
+    const std::size_t rows_capacity = std::max(s.rows.key.capacity(), s.curvature_rows.key.capacity());
+    sc.kkt_rows.reserve(rows_capacity);
+    sc.kkt_lambda.reserve(rows_capacity);
+  }
   sc.sqp_previous_direction.resize(v_free.size());
   sc.sqp_previous_product.resize(v_free.size());
   // b - A v_k at the first iterate from solve_newton's residual at v* (rhs - A v*, formed
@@ -442,6 +454,14 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     if (at_minimiser && (s.factor_exact ? no_rows || worst <= 1 : no_rows && !skip_v_star)) break;
     if (k > 0 && worst <= 1 && last_move <= cfg.sqp_position_tolerance) {
       converged = true;
+      break;
+    }
+    // The last QP's multipliers already solve the next QP (no halving of its step: alpha is
+    // still 1): the iterate is a KKT point, and that QP would only confirm it.
+    if (k > 0 && kkt_testable && alpha == 1 && worst <= 1 &&
+        last_multipliers_solve(s.curvature_rows, s.rows, h, cfg, sc.kkt_rows, sc.kkt_lambda)) {
+      converged = true;
+      ++kkt_stops;
       break;
     }
     // Within tolerance, corrections that no longer shrink are rows switching on and off at
@@ -572,6 +592,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       }
     }
     VecX& v_next = sc.v_next = v_base;
+    bool lcp_converged = true;
     if (m > 0) {
       // c, J (v_base - v_k), weights; with an approximate W: W lambda_0, W~ lambda_0
       Eigen::Map<MatX> per_row_values = sc.per_row.view(m, 6);
@@ -622,11 +643,19 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         if (correct) c += exact_w - approximate_w;
         residual_weights(cfg, h, s.rows, weights);
         const int pgs_cap = IterationCaps::effective(cfg.pgs_max_iterations, s.caps.pgs);
-        const PgsResult result =
+        PgsResult result =
             active_set ? s.active_set_pgs.solve(s.delassus, c, weights, s.rows, pgs_cap, cfg.pgs_tolerance,
                                                 cfg.pgs_subspace_interval)
                        : solve_pgs(s.delassus, c, weights, s.rows, pgs_cap, cfg.pgs_tolerance, cfg.pgs_subspace_interval,
                                    offset_form ? start_lambda.data() : nullptr);
+        lcp_converged = result.residual <= cfg.pgs_tolerance;
+        // A QP the KKT stop may end the step after (sqp_kkt_stop.hpp) takes the sweep the
+        // confirming QP would have made from its multipliers: without it a box resting on a
+        // plane (sleep off) settled a sweep a step slower, kept rotations moving above 1e-12
+        // for 160 steps instead of 45 and refactorised on each of them.
+        if (lcp_converged && kkt_stop_on && s.factor_exact && result.iterations < pgs_cap &&
+            rows_without_curvature(s.rows))
+          result.iterations += solve_pgs(s.delassus, c, weights, s.rows, 1, 0.0).iterations;
         pgs += result.iterations;
         subspace_products += result.subspace_products;
       }
@@ -685,7 +714,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // With an exact factorisation and rows without curvature the QP's step is already the
     // Lagrangian's minimiser (step length 1, nothing to conjugate against).
     const bool accelerate = conjugate_steps_on && !s.factor_exact;
-    const bool rows_linear = std::all_of(s.rows.element.begin(), s.rows.element.end(), [](int e) { return e < 0; });
+    const bool rows_linear = rows_without_curvature(s.rows);
     // d's slopes: of f, (A v_k - b)^T d, and of the Lagrangian f - lambda^T C, less
     // (J^T lambda)^T d (sc.impulse is J^T lambda).
     const auto slopes = [&](double& objective, double& lagrangian) {
@@ -744,6 +773,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       previous_curvature = merit_step.curvature;
     }
     if (conjugated) ++conjugate_steps;
+    kkt_testable = kkt_stop_on && s.factor_exact && rows_linear && lcp_converged && alpha == 1 && !conjugated;
     sc.sqp_from = v_free;
     from_worst = k > 0 ? worst : 0.0;
     previous_move = last_move;
@@ -839,6 +869,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   profile.iterations["sqp_backtracks"] += backtracks;
   profile.iterations["sqp_stalls_accepted"] += stalls_accepted;
   profile.iterations["sqp_restorations_accepted"] += restorations_accepted;
+  profile.iterations["sqp_kkt_stops"] += kkt_stops;
   profile.iterations["sqp_restored"] += restored;
   profile.iterations["sqp_extended"] += extended ? 1 : 0;
   profile.iterations["sqp_conjugate_steps"] += conjugate_steps;

@@ -12,9 +12,9 @@ namespace sinew::wp {
 namespace {
 
 // Bump when the file layout or the meaning of a sample changes.
-constexpr uint32_t kFormatVersion = 8;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration; 4: sqp_solves;
+constexpr uint32_t kFormatVersion = 9;  // 2: sqp_stall_tolerance in the fingerprint; 3: sqp_acceleration; 4: sqp_solves;
                                         // 5: newton_predictor; 6: divergence_violation_limit; 7: sqp_cap_extension;
-                                        // 8: sqp_restoration
+                                        // 8: sqp_restoration; 9: sqp_kkt_stop
 constexpr char kMagic[8] = {'S', 'W', 'P', 'R', 'E', 'F', '\n', '\0'};
 
 nlohmann::json vec3(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
@@ -43,7 +43,7 @@ nlohmann::json run_fingerprint(const SceneDesc& scene, const std::string& scene_
       {"sqp_max_iterations", s.sqp_max_iterations}, {"sqp_tolerance", s.sqp_tolerance},
       {"sqp_position_tolerance", s.sqp_position_tolerance},
       {"sqp_stall_tolerance", s.sqp_stall_tolerance}, {"sqp_cap_extension", s.sqp_cap_extension},
-      {"sqp_restoration", s.sqp_restoration},
+      {"sqp_restoration", s.sqp_restoration}, {"sqp_kkt_stop", s.sqp_kkt_stop},
       {"sqp_acceleration", s.sqp_acceleration}, {"sqp_solves", s.sqp_solves},
       {"newton_predictor", s.newton_predictor},
       {"refactor_interval", s.refactor_interval}, {"curved_refactor_interval", s.curved_refactor_interval},

@@ -396,6 +396,11 @@ TEST_CASE("scene parser: string and choice errors") {
   CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.sqp_restoration == "accept");
   scene["solver"] = {{"sqp_restoration", "always"}};
   check_error(scene, "solver.sqp_restoration: expected one of \"accept\", \"none\", got \"always\"");
+  CHECK(sinew::parse_scene_text(minimal_scene().dump(), "test.json", "").solver.sqp_kkt_stop == "on");
+  scene["solver"] = {{"sqp_kkt_stop", "off"}};
+  CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.sqp_kkt_stop == "off");
+  scene["solver"] = {{"sqp_kkt_stop", true}};
+  check_error(scene, "solver.sqp_kkt_stop: expected one of \"on\", \"off\", got true");
   scene["solver"] = {{"stale_factor_precision", "double"}};
   CHECK(sinew::parse_scene_text(scene.dump(), "test.json", "").solver.stale_factor_precision == "double");
   scene["solver"] = {{"stale_factor_precision", "half"}};
