@@ -319,7 +319,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   // The KKT stop (sqp_kkt_stop.hpp): whether the last QP may be tested (solved with this
   // step's A, its step taken whole, its LCP to tolerance, rows without curvature), and how
   // often the test ended the step.
-  const bool kkt_stop_on = cfg.sqp_kkt_stop == "on" && !model.has_hyperelastic;
+  // Not with PCG (its solves are inexact) nor hyperelastic bodies (sqp_kkt_stop.hpp).
+  const bool kkt_stop_on = cfg.sqp_kkt_stop == "on" && !model.has_hyperelastic && solver.uses_cholmod();
   bool kkt_testable = false;
   int kkt_stops = 0;
   // Conjugate steps: whether the last QP left its direction and A times it in scratch.
@@ -655,7 +656,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         // for 160 steps instead of 45 and refactorised on each of them.
         if (lcp_converged && kkt_stop_on && s.factor_exact && result.iterations < pgs_cap &&
             rows_without_curvature(s.rows))
-          result.iterations += solve_pgs(s.delassus, c, weights, s.rows, 1, 0.0).iterations;
+          result.iterations +=
+              solve_pgs(s.delassus, c, weights, s.rows, 1, 0.0, 0, offset_form ? start_lambda.data() : nullptr).iterations;
         pgs += result.iterations;
         subspace_products += result.subspace_products;
       }
@@ -773,6 +775,8 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
       previous_curvature = merit_step.curvature;
     }
     if (conjugated) ++conjugate_steps;
+    // rows_linear also keeps strain rows out: their Jacobians are deferred (zero) in s.rows
+    // at the test, and would compare equal to nothing meaningful.
     kkt_testable = kkt_stop_on && s.factor_exact && rows_linear && lcp_converged && alpha == 1 && !conjugated;
     sc.sqp_from = v_free;
     from_worst = k > 0 ? worst : 0.0;

@@ -35,12 +35,12 @@ bool last_multipliers_solve(const RowTable& last_qp, const RowTable& rows, doubl
     double lo, hi;
     pgs_bounds(rows, lambda, i, lo, hi);
     const double l = lambda[i], w = rows.value[i] / h;
-    if (l < lo || l > hi) return false;
+    if (!(l >= lo && l <= hi) || !std::isfinite(w)) return false;  // NaN fails too
     const double residual = lo == hi   ? 0.0  // a friction row of a contact without force: no freedom
                             : l == lo  ? std::max(0.0, -w)
                             : l == hi  ? std::max(0.0, w)
                                        : std::abs(w);
-    if (!(residual * h / row_tolerance(cfg, rows.kind[i]) <= cfg.pgs_tolerance)) return false;  // NaN fails
+    if (!(residual * h / row_tolerance(cfg, rows.kind[i]) <= cfg.pgs_tolerance)) return false;
   }
   return true;
 }

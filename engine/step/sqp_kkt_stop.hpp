@@ -1,9 +1,10 @@
 #pragma once
 // The SQP's stop at a KKT point (solve_constraints.cpp, solver.sqp_kkt_stop).
 //
-// After a QP solved with H = A (this step's own factorisation, no curvature in it), taken
-// whole, the residual at the new iterate v_k+1 is b - A v_k+1 = -J^T lambda_k exactly (the
-// step solved A d = r_k + J^T lambda_k). When the rows at v_k+1 have the very stencils and
+// After a QP solved with H = A (this step's own CHOLMOD factorisation, no curvature in it),
+// taken whole, the residual at the new iterate v_k+1 is b - A v_k+1 = -J^T lambda_k up to
+// round-off (the step solved A d = r_k + J^T lambda_k; not with PCG, whose solves stop at
+// pcg_tolerance or a cap, where the confirming QP is a step of iterative refinement). When the rows at v_k+1 have the very stencils and
 // Jacobians of the rows the QP was linearised at (contacts on planes: linear rows), the next
 // QP differs from this one only in C, and lambda_k solves its LCP as soon as the rows' values
 // at v_k+1 meet lambda_k's complementarity conditions: (v_k+1, lambda_k) is then a KKT point
@@ -38,7 +39,7 @@ inline double row_tolerance(const SolverDesc& cfg, RowKind kind) {
 // times h / (its kind's tolerance) must be at most solver.pgs_tolerance: PGS's own stopping
 // test (solve_pgs), with the natural residual, min(that, (hi - lo) W_ii) at a bound, bounded
 // above without W's diagonal. A multiplier outside its bounds (a friction row whose normal
-// moved) fails. Scratch (kept by the caller: no allocation once warm): the last QP's (key,
+// moved) fails, and so do a NaN multiplier or value. Scratch (kept by the caller: no allocation once warm): the last QP's (key,
 // row) pairs, sorted, and the multipliers per row of `rows`.
 bool last_multipliers_solve(const RowTable& last_qp, const RowTable& rows, double h, const SolverDesc& cfg,
                             std::vector<std::pair<uint64_t, int>>& last_rows, std::vector<double>& lambda);
