@@ -118,7 +118,8 @@ TEST_CASE("a warm step allocates nothing, on 2 threads and on 1") {
   // Every kind of step: energy limits with contact (creature, sphere), energy limits alone
   // (beam), strain limits with a kinematic press (finger) and alone (beam), collapse, two
   // bodies in contact (the default demo), Newton on Stable Neo-Hookean, alone and with contact
-  // (the Newton predictor, CG preconditioned by an older factor). Warm-ups long
+  // (the Newton predictor, CG preconditioned by an older factor), a box at rest on a plane
+  // (the SQP's KKT stop). Warm-ups long
   // enough for each scene's rows to reach the sizes of the window.
   const Window windows[] = {{"default", 40, 20, false},
                             {"paper000_beam_150kPa_U0.5", 60, 30, true},
@@ -128,7 +129,8 @@ TEST_CASE("a warm step allocates nothing, on 2 threads and on 1") {
                             {"paper001_finger_flat_anisotropic", 90, 20, false},
                             {"paper001_beam_5kPa_isotropic", 60, 20, true},
                             {"paper003_elbow_snh", 60, 20, false},
-                            {"contact_snh_box_on_plane", 60, 30, true}};
+                            {"contact_snh_box_on_plane", 60, 30, true},
+                            {"contact_box_on_plane", 100, 30, true}};
   for (const int threads : {2, 1}) {
     tbb::global_control control(tbb::global_control::max_allowed_parallelism, threads);
     for (const Window& w : windows) {
@@ -153,6 +155,8 @@ TEST_CASE("a warm step allocates nothing, on 2 threads and on 1") {
       CHECK(count.ours == 0);
       // The box at rest: its steps take the Newton predictor's path (the window covers it).
       if (name == "contact_snh_box_on_plane") CHECK(world.profile().iterations.at("newton_predicted") == 1);
+      // The box at rest: its steps end by the SQP's KKT stop (the window covers that path).
+      if (name == "contact_box_on_plane") CHECK(world.profile().iterations.at("sqp_kkt_stops") == 1);
     }
   }
 }
