@@ -261,7 +261,8 @@ void settle_curvature(const Model& model, State& s) {
 // nothing violated at x* the paper's LCP is not needed and the stage is skipped.
 // Converged when every row meets its tolerance and the last correction moved no node
 // by more than sqp_position_tolerance, or, once the corrections stop shrinking, by no more
-// than sqp_stall_tolerance. A step that continues constrained motion linearises its first
+// than sqp_stall_tolerance, or when the last QP's multipliers solve the next QP
+// (sqp_kkt_stop.hpp). A step that continues constrained motion linearises its first
 // QP at the start-of-step velocities rather than at v* (below, with the measurements).
 // Each step is taken through a backtracking line search on an l1 merit function
 // (sqp_merit.hpp), and a step that ends at the cap outside its tolerances returns its last
@@ -318,8 +319,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
   const bool restoration_on = cfg.sqp_restoration == "accept";
   // The KKT stop (sqp_kkt_stop.hpp): whether the last QP may be tested (solved with this
   // step's A, its step taken whole, its LCP to tolerance, rows without curvature), and how
-  // often the test ended the step.
-  // Not with PCG (its solves are inexact) nor hyperelastic bodies (sqp_kkt_stop.hpp).
+  // often the test ended the step. Not with PCG (inexact solves) nor hyperelastic bodies.
   const bool kkt_stop_on = cfg.sqp_kkt_stop == "on" && !model.has_hyperelastic && solver.uses_cholmod();
   bool kkt_testable = false;
   int kkt_stops = 0;
