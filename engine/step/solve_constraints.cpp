@@ -519,6 +519,9 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     }
     complete_jacobians();  // this iterate's rows are linearised at
     const int m = s.rows.size();
+    // No row with curvature (no energy or strain row): the KKT stop's extra sweep and test,
+    // the conjugate steps and the merit's first trial depend on it.
+    const bool rows_linear = rows_without_curvature(s.rows);
     ++sqp;
     impulse_valid = false;
     for (int i = 0; i < m; ++i) s.rows.lambda[i] = warm_lambda(s.warm_start, s.rows.key[i]);
@@ -654,8 +657,7 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
         // confirming QP would have made from its multipliers: without it a box resting on a
         // plane (sleep off) settled a sweep a step slower, kept rotations moving above 1e-12
         // for 160 steps instead of 45 and refactorised on each of them.
-        if (lcp_converged && kkt_stop_on && s.factor_exact && result.iterations < pgs_cap &&
-            rows_without_curvature(s.rows))
+        if (lcp_converged && kkt_stop_on && s.factor_exact && result.iterations < pgs_cap && rows_linear)
           result.iterations +=
               solve_pgs(s.delassus, c, weights, s.rows, 1, 0.0, 0, offset_form ? start_lambda.data() : nullptr).iterations;
         pgs += result.iterations;
@@ -716,7 +718,6 @@ void solve_constraints(const Model& model, LinearSolver& solver, State& s) {
     // With an exact factorisation and rows without curvature the QP's step is already the
     // Lagrangian's minimiser (step length 1, nothing to conjugate against).
     const bool accelerate = conjugate_steps_on && !s.factor_exact;
-    const bool rows_linear = rows_without_curvature(s.rows);
     // d's slopes: of f, (A v_k - b)^T d, and of the Lagrangian f - lambda^T C, less
     // (J^T lambda)^T d (sc.impulse is J^T lambda).
     const auto slopes = [&](double& objective, double& lagrangian) {

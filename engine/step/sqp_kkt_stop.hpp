@@ -4,14 +4,15 @@
 // After a QP solved with H = A (this step's own CHOLMOD factorisation, no curvature in it),
 // taken whole, the residual at the new iterate v_k+1 is b - A v_k+1 = -J^T lambda_k up to
 // round-off (the step solved A d = r_k + J^T lambda_k; not with PCG, whose solves stop at
-// pcg_tolerance or a cap, where the confirming QP is a step of iterative refinement). When the rows at v_k+1 have the very stencils and
-// Jacobians of the rows the QP was linearised at (contacts on planes: linear rows), the next
-// QP differs from this one only in C, and lambda_k solves its LCP as soon as the rows' values
-// at v_k+1 meet lambda_k's complementarity conditions: (v_k+1, lambda_k) is then a KKT point
-// of the step's problem, and the next QP would only confirm it (a PGS sweep from lambda_k and
-// a correction of the order of PGS's tolerance). This test replaces that QP; the QP before it
-// takes that sweep (solve_constraints.cpp). The contact scenes of paper 000 (`sinew run`, each
-// scene's frames): sphere 1 MPa 189 -> 94 QPs, collapse 318 -> 196, and the collapse's
+// pcg_tolerance or a cap, where the confirming QP is a step of iterative refinement). When
+// the rows at v_k+1 have the very stencils and Jacobians of the rows the QP was linearised at
+// (contacts on planes: linear rows), the next QP differs from this one only in C, and
+// lambda_k solves its LCP as soon as the rows' values at v_k+1 meet lambda_k's
+// complementarity conditions: (v_k+1, lambda_k) is then a KKT point of the step's problem,
+// and the next QP would only confirm it (a PGS sweep from lambda_k and a correction of the
+// order of PGS's tolerance). This test replaces that QP; the QP before it takes that sweep
+// (solve_constraints.cpp). The contact scenes of paper 000 (`sinew run`, each scene's
+// frames): sphere 1 MPa 189 -> 94 QPs, collapse 318 -> 196, and the collapse's
 // solve_constraints 1.670e9 -> 1.432e9 instructions (callgrind, one thread).
 // Only without hyperelastic bodies: their QPs start from Newton's quadratic model, whose
 // residual at v* Newton may leave nonzero (solve_newton.cpp), and the identity above fails.
@@ -39,8 +40,9 @@ inline double row_tolerance(const SolverDesc& cfg, RowKind kind) {
 // times h / (its kind's tolerance) must be at most solver.pgs_tolerance: PGS's own stopping
 // test (solve_pgs), with the natural residual, min(that, (hi - lo) W_ii) at a bound, bounded
 // above without W's diagonal. A multiplier outside its bounds (a friction row whose normal
-// moved) fails, and so do a NaN multiplier or value. Scratch (kept by the caller: no allocation once warm): the last QP's (key,
-// row) pairs, sorted, and the multipliers per row of `rows`.
+// moved) fails, and so do a NaN multiplier or value. Scratch (kept by the caller: no
+// allocation once warm): the last QP's (key, row) pairs, sorted, and the multipliers per row
+// of `rows`.
 bool last_multipliers_solve(const RowTable& last_qp, const RowTable& rows, double h, const SolverDesc& cfg,
                             std::vector<std::pair<uint64_t, int>>& last_rows, std::vector<double>& lambda);
 
