@@ -49,4 +49,10 @@ std::string utc_now() {
   return s;
 }
 
+nlohmann::json cpu_placement_json(const std::string& mode, const CpuPlacement& placement) {
+  nlohmann::json probes = nlohmann::json::array();
+  for (const CpuTiming& t : placement.timings) probes.push_back({{"cpu", t.cpu}, {"probe_ms", t.ms}});
+  return {{"mode", mode}, {"probes", probes}, {"pinned_cpu", placement.pinned_cpu}, {"summary", placement.summary}};
+}
+
 }  // namespace sinew::bench

@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "engine/core/cpu_placement.hpp"
 #include "engine/io/stats_writer.hpp"
 
 namespace sinew::bench {
@@ -22,5 +25,8 @@ std::string cpu_model();
 int processor_count();
 // "YYYY-MM-DD HH:MM UTC".
 std::string utc_now();
+// A run's CPU placement for its JSON: the mode, the probe's time per CPU, the CPU the main
+// thread was pinned to (-1: none) and the summary line.
+nlohmann::json cpu_placement_json(const std::string& mode, const CpuPlacement& placement);
 
 }  // namespace sinew::bench

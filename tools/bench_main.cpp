@@ -235,7 +235,8 @@ void print_usage(std::FILE* to) {
                "                   [--pgs-subspace N] [--pgs-sweeps active_set|all_rows]\n"
                "                   [--sqp-acceleration conjugate|none] [--sqp-restoration accept|none] [--sqp-kkt-stop on|off]\n"
                "                   [--stale-factor-precision single|double]\n"
-               "                   [--hessian-reuse-tolerance T] [--pair-cuts on|off] [--repeat N] [--out FILE]\n"
+               "                   [--hessian-reuse-tolerance T] [--pair-cuts on|off] [--repeat N]\n"
+               "                   [--cpu-placement fastest|none] [--out FILE]\n"
                "Times each scene's steps after N warm-up steps (bodies never sleep, except in rest3boxes_asleep):\n"
                "per-stage median, p95 and max, steps per second and the multiple of real time, rows, SQP\n"
                "iterations; with more than one scene, a summary table at the end.\n"
@@ -267,6 +268,12 @@ void print_usage(std::FILE* to) {
                "                        pool every run's timed steps, and each run's median step, the median of\n"
                "                        those and whether every run ended in the same state are reported too\n"
                "                        (if not, exit code 3 once the JSON is written: a determinism bug)\n"
+               "  --cpu-placement P     none (default): threads left to the scheduler; fastest: when one CPU is\n"
+               "                        more than 10 %% faster than the slowest, the main thread (the step's\n"
+               "                        serial stages) pinned to it and the worker threads to the others.\n"
+               "                        Either way each CPU's time for a probe kernel is taken before each\n"
+               "                        scene (on shared machines the faster CPU changes within seconds) and\n"
+               "                        written, with the placement, in that scene's JSON\n"
                "  --out FILE            JSON results (default bench_results.json), written once every scene ran\n");
 }
 
@@ -290,7 +297,7 @@ int integer_option(const std::string& option, const std::string& text, int min) 
 }
 
 struct Options {
-  std::string out = "bench_results.json", only;
+  std::string out = "bench_results.json", only, cpu_placement = "none";
   std::vector<std::string> files;
   bool paper_scenes = false, help = false;
   int steps = 100, warmup = 10, threads = 0, repeat = 1;
@@ -330,6 +337,7 @@ Options parse_options(int argc, char** argv) {
     else if (arg == "--stale-factor-precision") o.set.stale_factor_precision = one_of(next(), {"single", "double"});
     else if (arg == "--pair-cuts") o.set.pair_cuts = one_of(next(), {"on", "off"});
     else if (arg == "--hessian-reuse-tolerance") o.set.hessian_reuse_tolerance = cli::parse_nonnegative(next(), arg);
+    else if (arg == "--cpu-placement") o.cpu_placement = one_of(next(), {"fastest", "none"});
     else if (arg == "--help" || arg == "-h") o.help = true;
     else throw UsageError("unknown option '" + arg + "' (see --help)");
   }
@@ -396,9 +404,13 @@ int main(int argc, char** argv) {
   for (std::size_t k = 0; k < scenes.size(); ++k) {
     const BenchScene& bench = scenes[k];
     if (scenes.size() > 1) std::fprintf(stderr, "[%zu/%zu] %s\n", k + 1, scenes.size(), bench.name.c_str());
+    // Probed (and placed) afresh for each scene: which CPU is the faster one changes within seconds.
+    const CpuPlacement placement = place_main_thread(o.cpu_placement);
+    std::printf("%s: %s\n", bench.name.c_str(), placement.summary.c_str());
     try {
       results["scenes"][bench.name] =
           bench_scene(bench, o.warmup, o.steps, o.repeat, o.set);
+      results["scenes"][bench.name]["cpu_placement"] = bench::cpu_placement_json(o.cpu_placement, placement);
     } catch (const std::exception& e) {
       std::printf("%-32s skipped: %s\n", bench.name.c_str(), e.what());
       results["scenes"][bench.name] = {{"skipped", e.what()}};
