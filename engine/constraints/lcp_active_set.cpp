@@ -28,6 +28,11 @@ void ActiveSetPgs::Block::start(const Eigen::Ref<const VecX>& lambda, const Eige
 
 void ActiveSetPgs::Block::changed(int p, double delta) { add_scaled(m_w, column(p), delta, m_size); }
 
+void ActiveSetPgs::Block::changed4(const int* p, const double* delta) {
+  const double* columns[4] = {column(p[0]), column(p[1]), column(p[2]), column(p[3])};
+  add_scaled4(m_w, columns, delta, m_size);
+}
+
 void ActiveSetPgs::Block::multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x,
                                         Eigen::Ref<VecX> out) const {
   // The free rows' columns of W_AA (contiguous), four a pass, into a product over all of

@@ -64,7 +64,10 @@ class ActiveSetPgs {
     double diagonal(int p) const { return column(p)[m_slot[p]]; }
     void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c);
     double w(int p) const { return m_w[m_slot[p]]; }
+    // W_pq as changed(q, .) adds it to w(p).
+    double entry(int p, int q) const { return column(q)[m_slot[p]]; }
     void changed(int p, double delta);
+    void changed4(const int* p, const double* delta);  // changed(p[k], delta[k]) for k = 0..3
     void multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> out) const;
 
    private:

@@ -79,17 +79,42 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
     for (int i = 0; i < m; ++i) shifted[i] = lambda[i] - offset[i];
     W.start(Eigen::Map<const VecX>(shifted.data(), m), c);
   };
+  // An operator with entry(i, j) = W_ij and changed4 (four changed() in one pass over w, the
+  // same operations on each value of w) takes the sweep's changes four at a time: the rows
+  // between read theirs as w_i plus the pending changes' terms, added in the order changed()
+  // would have added them, so every w_i read and the w after the sweep are bit for bit the
+  // one-at-a-time sweep's.
+  constexpr bool kDeferred = requires(Operator& op, const int* p, const double* d) {
+    op.entry(0, 0);
+    op.changed4(p, d);
+  };
+  int pending = 0;
+  int pending_row[4];
+  double pending_change[4];
   for (int it = 0; it < max_iterations; ++it) {
     if (it % kRefresh == 0) start();
     for (int i = 0; i < m; ++i) {
       if (!(W.diagonal(i) > 0)) continue;  // a row that moves no free DOF: nothing to solve
       double lo, hi;
       pgs_bounds(rows, lambda, i, lo, hi);
-      const double updated = std::clamp(lambda[i] - W.w(i) / W.diagonal(i), lo, hi);
+      double w = W.w(i);
+      if constexpr (kDeferred)
+        for (int k = 0; k < pending; ++k) w += W.entry(i, pending_row[k]) * pending_change[k];
+      const double updated = std::clamp(lambda[i] - w / W.diagonal(i), lo, hi);
       if (const double change = updated - lambda[i]; change != 0) {
-        W.changed(i, change);
         lambda[i] = updated;
+        if constexpr (kDeferred) {
+          pending_row[pending] = i;
+          pending_change[pending] = change;
+          if (++pending == 4) W.changed4(pending_row, pending_change), pending = 0;
+        } else {
+          W.changed(i, change);
+        }
       }
+    }
+    if constexpr (kDeferred) {
+      for (int k = 0; k < pending; ++k) W.changed(pending_row[k], pending_change[k]);
+      pending = 0;
     }
     result.iterations = it + 1;
     result.residual = 0;

@@ -233,3 +233,68 @@ TEST_CASE("active-set PGS: the same multipliers on 1 and 2 threads") {
   }
   CHECK(std::memcmp(lambda[0].data(), lambda[1].data(), sizeof(double) * lambda[0].size()) == 0);
 }
+
+namespace {
+
+// Block as solve_pgs sees it without entry() and changed4(): one change at a time.
+struct OneChangeAtATime {
+  ActiveSetPgs::Block& block;
+  double diagonal(int p) const { return block.diagonal(p); }
+  void start(const Eigen::Ref<const VecX>& lambda, const Eigen::Ref<const VecX>& c) { block.start(lambda, c); }
+  double w(int p) const { return block.w(p); }
+  void changed(int p, double delta) { block.changed(p, delta); }
+  void multiply_rows(const std::vector<int>& rows, const Eigen::Ref<const VecX>& x, Eigen::Ref<VecX> out) const {
+    block.multiply_rows(rows, x, out);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("solve_pgs on W_AA: changes four at a time give the one-at-a-time sweep's multipliers bit for bit") {
+  // A semi-definite W_AA (more rows than DOFs, as the flat finger's), its entries in slots
+  // permuted against the positions, contacts with friction rows and unilateral rows.
+  std::mt19937 rng(23);
+  std::normal_distribution<double> normal;
+  const int m = 45, dofs = 30;
+  MatX J(m, dofs);
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < dofs; ++j) J(i, j) = normal(rng);
+  std::vector<int> slot(m);
+  for (int p = 0; p < m; ++p) slot[p] = (7 * p + 3) % m;
+  MatX W_by_slot(m, m);  // column slot[q], entry slot[p]: W_pq
+  const MatX W = J * J.transpose();
+  for (int p = 0; p < m; ++p)
+    for (int q = 0; q < m; ++q) W_by_slot(slot[p], slot[q]) = W(p, q);
+  PgsRows rows;
+  VecX c(m), weight = VecX::Ones(m);
+  for (int p = 0; p < m; ++p) {
+    const bool friction = p % 3 != 0 && p < 30;  // rows 0, 3, .. 27 normals with two friction rows
+    rows.normal_row.push_back(friction ? p - p % 3 : -1);
+    rows.mu.push_back(friction ? 0.4 : 0.0);
+    rows.lo.push_back(friction ? 0.0 : 0.0);
+    rows.hi.push_back(friction ? 0.0 : 1e300);
+    rows.lambda.push_back(0.0);
+    c[p] = friction ? 3 * normal(rng) : normal(rng) - 0.5;
+  }
+  for (int subspace : {0, 8}) {
+    CAPTURE(subspace);
+    std::vector<double> w_blocked(m), w_single(m), product(m);
+    PgsRows blocked_rows = rows, single_rows = rows;
+    ActiveSetPgs::Block blocked(W_by_slot.data(), m, m, slot.data(), w_blocked.data(), product.data());
+    ActiveSetPgs::Block single(W_by_slot.data(), m, m, slot.data(), w_single.data(), product.data());
+    OneChangeAtATime one{single};
+    // A loose tolerance first (sweeps that leave changes pending at a sweep's end), then tight.
+    for (double tolerance : {1e-2, 1e-12}) {
+      const PgsResult a = solve_pgs(blocked, c, weight, blocked_rows, 300, tolerance, subspace);
+      const PgsResult b = solve_pgs(one, c, weight, single_rows, 300, tolerance, subspace);
+      CHECK(a.iterations == b.iterations);
+      CHECK(a.subspace_products == b.subspace_products);
+      CHECK(std::memcmp(&a.residual, &b.residual, sizeof(double)) == 0);
+      CHECK(std::memcmp(blocked_rows.lambda.data(), single_rows.lambda.data(), m * sizeof(double)) == 0);
+      CHECK(std::memcmp(w_blocked.data(), w_single.data(), m * sizeof(double)) == 0);
+    }
+    int positive = 0;
+    for (double l : blocked_rows.lambda) positive += l > 0;
+    CHECK(positive >= 4);  // the deferred path ran: some sweeps changed four rows or more
+  }
+}
