@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "engine/analysis/element_fields.hpp"
+#include "engine/core/cpu_placement.hpp"
 #include "engine/core/error.hpp"
 #include "engine/core/progress.hpp"
 #include "engine/io/atomic_file.hpp"
@@ -43,6 +44,12 @@ Options run_options() {
                           "                          more than solver.budget_violation_limit tolerances past a constraint\n"
                           "                          is redone at the scene's caps. Not deterministic; without --budget\n"
                           "                          and --realtime the scene's caps hold"},
+       {"--cpu-placement", "P", "none (default): threads left to the scheduler; fastest: when one CPU runs a\n"
+                                "                          probe kernel more than 10 % faster than the slowest, the main thread\n"
+                                "                          (the step's serial stages) is pinned to it and worker threads to the\n"
+                                "                          others. Either way each CPU's probe time is printed and written in\n"
+                                "                          the stats summary (cpu_probe_ms): CPUs of shared virtual machines\n"
+                                "                          may differ in speed, by turns. Results do not depend on it"},
        {"--quiet", "", "print nothing but errors"}};
   for (OptionSpec& s : render_option_specs()) specs.push_back(std::move(s));
   return Options("sinew run SCENE [options]",
@@ -130,6 +137,8 @@ int run_command(int argc, char** argv) {
   const int frames_option = opts.get_int("--frames", 0, 1);
   const int threads = opts.get_int("--threads", 0, 1);
   const bool realtime = opts.has("--realtime");
+  std::string placement_mode = opts.get_one_of("--cpu-placement", {"none", "fastest"});
+  if (placement_mode.empty()) placement_mode = "none";
   const double budget_option = opts.get_double("--budget", 0, 0);
   const RenderRequest render_request = parse_render_request(opts);
   if (!render_request.wanted() && (opts.has("--wireframe") || opts.has("--color-map") || opts.has("--size")))
@@ -157,6 +166,10 @@ int run_command(int argc, char** argv) {
                   b.rest_surface.vertices.size(), b.rest_surface.triangles.size());
     }
   }
+
+  // After the model is built (its parallel loops made TBB's arena on every CPU allowed).
+  const CpuPlacement placement = place_main_thread(placement_mode);
+  if (!quiet) std::printf("%s\n", placement.summary.c_str());
 
   Exporter exporter{opts.get("--export-obj"), opts.get("--export-vtu"), {}};
   exporter.start(model);
@@ -188,6 +201,10 @@ int run_command(int argc, char** argv) {
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   nlohmann::json summary = summary_json(stats, world, scene.steps_per_frame(), wall_s, finite);
+  summary["cpu_placement"] = placement_mode;
+  summary["cpu_pinned"] = placement.pinned_cpu;
+  summary["cpu_probe_ms"] = nlohmann::json::object();
+  for (const CpuTiming& t : placement.timings) summary["cpu_probe_ms"][std::to_string(t.cpu)] = t.ms;
   if (pacing.budget_ms > 0) {
     summary["budget_ms"] = pacing.budget_ms;
     summary["over_budget_frames"] = loop.counters().over_budget;

@@ -8,7 +8,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
+#include <sched.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -101,8 +103,41 @@ TEST_CASE("sinew run: unreadable scene and bad options") {
   r = run_sinew("run a.json --bogus");
   CHECK(r.code == 2);
   CHECK(r.output.find("unknown option '--bogus'") != std::string::npos);
+  r = run_sinew("run a.json --cpu-placement best");
+  CHECK(r.code == 2);
+  CHECK(r.output.find("--cpu-placement") != std::string::npos);
   r = run_sinew("run --help");
   CHECK(r.code == 0);
-  for (const char* option : {"--frames", "--threads", "--stats", "--export-obj", "--export-vtu", "--quiet"})
+  for (const char* option : {"--frames", "--threads", "--stats", "--export-obj", "--export-vtu", "--quiet", "--cpu-placement"})
     CHECK(r.output.find(option) != std::string::npos);
+}
+
+TEST_CASE("sinew run: the CPUs' probe times in the output and the stats summary; none pins nothing") {
+  TempDir dir("placement");
+  const std::string scene = dir.write("scene.json", scene_with(""));
+  const std::string stats = (dir.path / "s.json").string();
+  const Result r = run_sinew("run " + scene + " --cpu-placement none --stats " + stats);
+  INFO(r.output);
+  REQUIRE(r.code == 0);
+  CHECK(r.output.find("main thread left to the scheduler") != std::string::npos);
+  std::ifstream in(stats);
+  const nlohmann::json summary = nlohmann::json::parse(in)["summary"];
+  CHECK(summary["cpu_placement"] == "none");
+  CHECK(summary["cpu_pinned"] == -1);
+  // One positive time per CPU the run may use (it inherits this process's set), when there
+  // are 2 to 16 of them; else none.
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  REQUIRE(sched_getaffinity(0, sizeof set, &set) == 0);
+  const int cpus = CPU_COUNT(&set);
+  const auto& probes = summary["cpu_probe_ms"];
+  REQUIRE(probes.is_object());
+  if (cpus >= 2 && cpus <= 16)
+    CHECK(static_cast<int>(probes.size()) == cpus);
+  else
+    CHECK(probes.empty());
+  for (const auto& [cpu, ms] : probes.items()) {
+    CHECK(CPU_ISSET(std::stoi(cpu), &set));
+    CHECK(ms.get<double>() > 0);
+  }
 }
