@@ -271,7 +271,8 @@ void print_usage(std::FILE* to) {
                "  --cpu-placement P     none (default): threads left to the scheduler; fastest: when one CPU is\n"
                "                        more than 10 %% faster than the slowest, the main thread (the step's\n"
                "                        serial stages) pinned to it and the worker threads to the others.\n"
-               "                        Either way each CPU's time for a probe kernel is taken before each\n"
+               "                        Either way each CPU's time for a probe kernel (none with one CPU or\n"
+               "                        more than 16) is taken before each\n"
                "                        scene (on shared machines the faster CPU changes within seconds) and\n"
                "                        written, with the placement, in that scene's JSON\n"
                "  --out FILE            JSON results (default bench_results.json), written once every scene ran\n");

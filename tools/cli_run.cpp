@@ -48,8 +48,9 @@ Options run_options() {
                                 "                          probe kernel more than 10 % faster than the slowest, the main thread\n"
                                 "                          (the step's serial stages) is pinned to it and worker threads to the\n"
                                 "                          others. Either way each CPU's probe time is printed and written in\n"
-                                "                          the stats summary (cpu_probe_ms): CPUs of shared virtual machines\n"
-                                "                          may differ in speed, by turns. Results do not depend on it"},
+                                "                          the stats summary (cpu_probe_ms; none with one CPU or more than 16):\n"
+                                "                          CPUs of shared virtual machines may differ in speed, by turns.\n"
+                                "                          Results do not depend on it"},
        {"--quiet", "", "print nothing but errors"}};
   for (OptionSpec& s : render_option_specs()) specs.push_back(std::move(s));
   return Options("sinew run SCENE [options]",
@@ -167,10 +168,6 @@ int run_command(int argc, char** argv) {
     }
   }
 
-  // After the model is built (its parallel loops made TBB's arena on every CPU allowed).
-  const CpuPlacement placement = place_main_thread(placement_mode);
-  if (!quiet) std::printf("%s\n", placement.summary.c_str());
-
   Exporter exporter{opts.get("--export-obj"), opts.get("--export-vtu"), {}};
   exporter.start(model);
   exporter.write(world, 0);
@@ -178,6 +175,11 @@ int run_command(int argc, char** argv) {
     renderer->start(model, scene.fps, frames, warn);
     renderer->frame(world, 0);
   }
+
+  // After the renderer started its recording thread and ffmpeg (which take the CPU set of
+  // the thread that starts them: pinned, they would share the main thread's one CPU).
+  const CpuPlacement placement = place_main_thread(placement_mode);
+  if (!quiet) std::printf("%s\n", placement.summary.c_str());
 
   RealtimeSettings pacing;
   pacing.paced = realtime;

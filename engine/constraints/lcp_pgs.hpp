@@ -38,6 +38,18 @@ inline double natural_residual(double lambda, double w, double diagonal, double 
   return std::abs(std::clamp(lambda - w / diagonal, lo, hi) - lambda) * diagonal;
 }
 
+// An operator with entry(i, j) = W_ij, the very value changed(j, .) adds to w(i), and changed4
+// (four changed() in one pass over w, the same operations on each value of w in the same
+// order): solve_pgs takes its sweep's changes four at a time; the rows between read theirs as
+// w_i plus the pending changes' terms, added in the order changed() would have added them, so
+// every w_i read and the w after each sweep are bit for bit the one-at-a-time sweep's.
+// (Delassus has an entry() but no changed4: its entries are formed, not those its changes add.)
+template <typename Operator>
+constexpr bool kDefersChanges = requires(Operator& op, const int* p, const double* d) {
+  op.entry(0, 0);
+  op.changed4(p, d);
+};
+
 // W given through an operator (delassus.hpp, or DenseLcpMatrix below) with
 //   diagonal(i), start(lambda, c) (w = W lambda + c from scratch), w(i), changed(i, delta).
 // W symmetric positive semi-definite with a positive diagonal. Starts from rows.lambda (warm
@@ -79,15 +91,7 @@ PgsResult solve_pgs(Operator& W, const Eigen::Ref<const VecX>& c, const Eigen::R
     for (int i = 0; i < m; ++i) shifted[i] = lambda[i] - offset[i];
     W.start(Eigen::Map<const VecX>(shifted.data(), m), c);
   };
-  // An operator with entry(i, j) = W_ij and changed4 (four changed() in one pass over w, the
-  // same operations on each value of w) takes the sweep's changes four at a time: the rows
-  // between read theirs as w_i plus the pending changes' terms, added in the order changed()
-  // would have added them, so every w_i read and the w after the sweep are bit for bit the
-  // one-at-a-time sweep's.
-  constexpr bool kDeferred = requires(Operator& op, const int* p, const double* d) {
-    op.entry(0, 0);
-    op.changed4(p, d);
-  };
+  constexpr bool kDeferred = kDefersChanges<Operator>;
   int pending = 0;
   int pending_row[4];
   double pending_change[4];

@@ -18,10 +18,11 @@
 namespace sinew {
 namespace {
 
+// Empty when the system cannot say (more CPUs than cpu_set_t holds): then nothing is probed.
 cpu_set_t current_set() {
   cpu_set_t set;
   CPU_ZERO(&set);
-  pthread_getaffinity_np(pthread_self(), sizeof set, &set);
+  if (pthread_getaffinity_np(pthread_self(), sizeof set, &set) != 0) CPU_ZERO(&set);
   return set;
 }
 
@@ -185,11 +186,9 @@ bool pin_main_thread(int cpu) {
   p.before = before;
   cpu_set_t others = before;
   CPU_CLR(cpu, &others);
-  if (!p.workers) {
-    p.workers = new WorkerCpus;
-    p.workers->observe(true);
-  }
+  if (!p.workers) p.workers = new WorkerCpus;
   p.workers->assign(CPU_COUNT(&others) > 0 ? others : before);
+  p.workers->observe(true);  // no-op when already observing
   return true;
 }
 

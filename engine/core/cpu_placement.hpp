@@ -21,7 +21,7 @@ namespace sinew {
 
 struct CpuTiming {
   int cpu = -1;     // the CPU's number (as sched_setaffinity counts them)
-  double ms = 0;    // the probe kernel's best time there, of three runs
+  double ms = 0;    // the probe kernel's median time there, of three runs
 };
 
 struct CpuPlacement {
@@ -51,6 +51,9 @@ CpuPlacement place_main_thread(const std::string& mode);
 // entry into its arena on, to the others it may run on (all of them if none is left); false,
 // with nothing changed, if `cpu` is not among them or the system refuses.
 bool pin_main_thread(int cpu);
+
+// A worker busy in the arena when the set changes keeps its old set until it next enters.
+// place_main_thread, pin_main_thread and release_main_thread: from the main thread only.
 
 // Undoes place_main_thread or pin_main_thread: the calling thread and the workers (at their next entry) back on
 // the CPU set the calling thread had before it.

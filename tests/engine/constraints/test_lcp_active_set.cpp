@@ -248,6 +248,12 @@ struct OneChangeAtATime {
   }
 };
 
+// The deferred path is Block's alone, and the reference below does not take it.
+static_assert(kDefersChanges<ActiveSetPgs::Block>);
+static_assert(!kDefersChanges<OneChangeAtATime>);
+static_assert(!kDefersChanges<Delassus>);
+static_assert(!kDefersChanges<DenseLcpMatrix>);
+
 }  // namespace
 
 TEST_CASE("solve_pgs on W_AA: changes four at a time give the one-at-a-time sweep's multipliers bit for bit") {
