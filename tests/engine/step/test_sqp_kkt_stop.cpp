@@ -50,6 +50,13 @@ Tables resting_contact() {
   return t;
 }
 
+// A cube dropped tilted onto a plane (friction 0.5) from 0.3 m, never sleeping.
+SceneDesc tilted_cube(const std::string& solver) {
+  SceneDesc scene = box_scene(0.5, Vec3(0, -kGravity, 0), 0.3, "", 1e6, solver);
+  scene.bodies[0].rotate = (Eigen::AngleAxisd(0.17, Vec3::UnitX()) * Eigen::AngleAxisd(0.09, Vec3::UnitZ())).toRotationMatrix();
+  return scene;
+}
+
 bool solves(const Tables& t, const SolverDesc& cfg = SolverDesc()) {
   std::vector<std::pair<uint64_t, int>> last_rows;
   std::vector<double> lambda;
@@ -166,8 +173,7 @@ TEST_CASE("KKT stop: in lockstep, the steps it ends are where a confirming QP en
   // sqp_stall_tolerance where it accepted a stall), as the other lockstep tests bound two
   // stopped iterates: `on` stops at a KKT point to PGS's tolerance, `off` within that move of
   // one (their first QPs differ by `on`'s extra sweep, a change of the same order).
-  SceneDesc scene = box_scene(0.5, Vec3(0, -kGravity, 0), 0.3, "", 1e6, R"({"sleep_steps": 0})");
-  scene.bodies[0].rotate = (Eigen::AngleAxisd(0.17, Vec3::UnitX()) * Eigen::AngleAxisd(0.09, Vec3::UnitZ())).toRotationMatrix();
+  SceneDesc scene = tilted_cube(R"({"sleep_steps": 0})");
   REQUIRE(scene.solver.refactor_interval == 1);
   scene.solver.sqp_kkt_stop = "on";
   World on = make_world(scene);
@@ -195,4 +201,34 @@ TEST_CASE("KKT stop: in lockstep, the steps it ends are where a confirming QP en
                           << " with a confirming QP; farthest node apart " << farthest << " m");
   CHECK(stopped > 30);  // landed within the first 20 steps, then resting
   CHECK(qps_off > qps_on);
+}
+
+TEST_CASE("KKT stop: not after a QP solved with an earlier step's factorisation") {
+  // The identity the stop rests on, b - A v_k+1 = -J^T lambda_k, holds only for a QP solved
+  // with this step's A. The tilted cube of the lockstep test above at refactor_interval 4:
+  // three steps in four solve with an older factorisation (State::factor_exact false after
+  // the step: it turns true only where the SQP refactorises). None of those may end by the
+  // stop; the steps with their own factorisation show that the stop is active in this scene.
+  // Without conjugate steps (sqp_acceleration "none"), whose first trial is rarely the whole
+  // step and so would keep the stop out for a reason of its own.
+  SceneDesc scene = tilted_cube(R"({"sleep_steps": 0, "refactor_interval": 4, "sqp_acceleration": "none"})");
+  REQUIRE(scene.solver.sqp_kkt_stop == "on");
+  World w = make_world(scene);
+  int older_steps = 0, older_stops = 0, own_stops = 0;
+  for (int i = 0; i < 90; ++i) {
+    REQUIRE(w.step());
+    const long stops = step_count_of(w, "sqp_kkt_stops");
+    if (w.state().factor_exact) {
+      own_stops += stops;
+      continue;
+    }
+    if (step_count_of(w, "sqp") == 0) continue;  // no QP (in flight): nothing to stop
+    ++older_steps;
+    older_stops += stops;
+  }
+  MESSAGE("steps with QPs on an earlier factorisation: " << older_steps << ", KKT stops there " << older_stops
+                                                         << "; stops on steps with their own: " << own_stops);
+  CHECK(older_steps > 30);
+  CHECK(own_stops > 0);
+  CHECK(older_stops == 0);
 }
