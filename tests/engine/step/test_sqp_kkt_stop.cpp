@@ -228,7 +228,7 @@ TEST_CASE("KKT stop: not after a QP solved with an earlier step's factorisation"
   }
   MESSAGE("steps with QPs on an earlier factorisation: " << older_steps << ", KKT stops there " << older_stops
                                                          << "; stops on steps with their own: " << own_stops);
-  CHECK(older_steps > 30);
+  CHECK(older_steps > 30);  // of the ~70 after landing (step 20), three in four: the test has steps to judge
   CHECK(own_stops > 0);
   CHECK(older_stops == 0);
 }
